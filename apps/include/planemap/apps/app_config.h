@@ -1,0 +1,26 @@
+#pragma once
+// Every setting of the planemap tool in one tree; configs/default.yaml mirrors its defaults.
+#include <string>
+
+#include "planemap/core/config.h"
+#include "planemap/io/tum_sequence.h"
+#include "planemap/sim/virtual_camera.h"
+
+namespace planemap {
+
+struct AppConfig {
+  DatasetConfig dataset;
+  sim::RenderConfig render;
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("dataset", dataset);
+    v("render", render);
+  }
+};
+
+// Finds a file shipped in configs/: `path` itself when it exists, else the same path under the
+// source tree's configs/ (so the tool runs from any folder). Returns `path` unchanged if neither.
+std::string ResolveConfigPath(const std::string& path);
+
+}  // namespace planemap

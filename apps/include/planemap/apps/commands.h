@@ -1,0 +1,29 @@
+#pragma once
+// The planemap subcommands. Each takes its options and returns the process exit code; bad input
+// throws InputError, which main() prints as one line.
+#include <string>
+
+namespace planemap {
+
+struct RenderOptions {
+  std::string scene = "configs/scenes/default.yaml";
+  std::string trajectory = "configs/walks/default.yaml";
+  std::string camera = "configs/cameras/xtion_nao.yaml";
+  std::string config = "configs/default.yaml";
+  std::string out = "out/default_walk";
+  int max_frames = -1;  // < 0: all
+  int seed = -1;        // < 0: the config's
+  bool exact = false;   // no sensor noise
+};
+
+struct InspectOptions {
+  std::string sequence;
+  std::string camera = "configs/cameras/tum_openni_default.yaml";
+  std::string config = "configs/default.yaml";
+  int max_frames = -1;
+};
+
+int RunRender(const RenderOptions& options);
+int RunInspect(const InspectOptions& options);
+
+}  // namespace planemap

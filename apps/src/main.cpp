@@ -1,0 +1,49 @@
+// The planemap command-line tool: thin wiring of the library's modules.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "planemap/apps/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"planemap: plane-based object maps, poses and grasp approach from RGB-D"};
+  app.require_subcommand(1);
+  bool verbose = false;
+  app.add_flag("-v,--verbose", verbose, "Log progress details");
+
+  planemap::RenderOptions render;
+  CLI::App* render_cmd = app.add_subcommand(
+      "render", "Render a simulated RGB-D sequence (TUM layout, labels, ground truth) of a scene along a walk");
+  render_cmd->add_option("--scene", render.scene, "Scene description (YAML)")->capture_default_str();
+  render_cmd->add_option("--trajectory", render.trajectory, "Walk description (.yaml) or TUM trajectory file")
+      ->capture_default_str();
+  render_cmd->add_option("--camera", render.camera, "Camera intrinsics (YAML)")->capture_default_str();
+  render_cmd->add_option("--config", render.config, "Settings (YAML), see configs/default.yaml")->capture_default_str();
+  render_cmd->add_option("--out", render.out, "Output folder")->capture_default_str();
+  render_cmd->add_option("--max-frames", render.max_frames, "Render only the first N poses");
+  render_cmd->add_option("--seed", render.seed, "Noise seed (overrides render.seed)");
+  render_cmd->add_flag("--exact", render.exact, "No sensor noise: exact depth");
+
+  planemap::InspectOptions inspect;
+  CLI::App* inspect_cmd = app.add_subcommand("inspect", "Read a TUM-layout RGB-D sequence and report what it holds");
+  inspect_cmd->add_option("sequence", inspect.sequence, "Sequence folder (rgb.txt, depth.txt, ...)")->required();
+  inspect_cmd->add_option("--camera", inspect.camera, "Camera intrinsics (YAML)")->capture_default_str();
+  inspect_cmd->add_option("--config", inspect.config, "Settings (YAML)")->capture_default_str();
+  inspect_cmd->add_option("--max-frames", inspect.max_frames, "Read only the first N frames");
+
+  CLI11_PARSE(app, argc, argv);
+  spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+  spdlog::set_pattern("[%H:%M:%S] %v");
+
+  const char* command = app.get_subcommands().front()->get_name().c_str();
+  try {
+    if (render_cmd->parsed()) return planemap::RunRender(render);
+    if (inspect_cmd->parsed()) return planemap::RunInspect(inspect);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());
+    return 1;
+  }
+  return 2;
+}

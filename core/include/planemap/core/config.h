@@ -1,0 +1,167 @@
+#pragma once
+// YAML <-> config structs, in one place (STYLE.md habit 1).
+//
+// A config struct lists its fields once, with a range check:
+//
+//   struct CameraIntrinsics {
+//     double fx = 525.0;  // [px]
+//     template <class V> void VisitFields(V&& v) { v("fx", fx, Check::kPositive); }
+//   };
+//
+// and that single list drives reading (unknown keys, wrong types, NaN and out-of-range values are
+// errors naming the file, line and key), writing and validation of structs built in code.
+// Supported field types: double, int, bool, std::string, std::vector<double>, and nested structs
+// that have VisitFields themselves.
+#include <cmath>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "planemap/core/error.h"
+
+namespace planemap {
+
+// Parses a YAML file; throws InputError naming the file (and line, for syntax errors).
+YAML::Node LoadYamlFile(const std::string& file);
+
+// Writes YAML to a file; throws InputError when the file cannot be written.
+void SaveYamlFile(const YAML::Node& node, const std::string& file);
+
+enum class Check { kAny, kPositive, kNonNegative, kProbability };
+
+namespace config_detail {
+
+template <typename T, typename = void>
+struct IsConfigStruct : std::false_type {};
+template <typename T>
+struct IsConfigStruct<T, std::void_t<decltype(std::declval<T&>().VisitFields(
+                             std::declval<void (*)(const char*, double&, Check)>()))>>
+    : std::true_type {};
+
+// "fx must be > 0" or an empty string when `value` passes `check`.
+std::string CheckValue(double value, Check check);
+int LineOf(const YAML::Node& node);
+
+}  // namespace config_detail
+
+// Reads one YAML map into a config struct; keys left out keep their defaults.
+class ConfigReader {
+ public:
+  // `file` and `prefix` (e.g. "render.noise.") only go into error messages.
+  ConfigReader(const YAML::Node& map, std::string file, std::string prefix = "");
+
+  template <typename T>
+  void operator()(const char* key, T& value, Check check = Check::kAny) {
+    const YAML::Node node = map_[key];
+    used_.emplace_back(key);
+    if (!node) return;
+    if constexpr (config_detail::IsConfigStruct<T>::value) {
+      if (!node.IsMap()) Fail(node, key, "expects a map of settings");
+      ConfigReader child(node, file_, prefix_ + key + ".");
+      value.VisitFields(child);
+      child.RejectUnknownKeys();
+    } else {
+      ReadScalar(node, key, &value, check);
+    }
+  }
+
+  // A list-valued key (e.g. the objects of a scene); an empty node when absent. Throws InputError
+  // when present but not a list.
+  YAML::Node TakeList(const char* key);
+
+  // Throws InputError naming the file, line and key; for checks the caller makes itself.
+  [[noreturn]] void Fail(const YAML::Node& node, const char* key, const std::string& what) const;
+
+  const std::string& file() const { return file_; }
+
+  // Throws InputError naming the first key of the map that no field asked for.
+  void RejectUnknownKeys() const;
+
+ private:
+  void ReadScalar(const YAML::Node& node, const char* key, double* value, Check check);
+  void ReadScalar(const YAML::Node& node, const char* key, int* value, Check check);
+  void ReadScalar(const YAML::Node& node, const char* key, bool* value, Check check);
+  void ReadScalar(const YAML::Node& node, const char* key, std::string* value, Check check);
+  void ReadScalar(const YAML::Node& node, const char* key, std::vector<double>* value, Check check);
+
+  YAML::Node map_;
+  std::string file_;
+  std::string prefix_;
+  std::vector<std::string> used_;
+};
+
+// Writes a config struct as a YAML map.
+class ConfigWriter {
+ public:
+  template <typename T>
+  void operator()(const char* key, const T& value, Check = Check::kAny) {
+    if constexpr (config_detail::IsConfigStruct<T>::value) {
+      ConfigWriter child;
+      T copy = value;
+      copy.VisitFields(child);
+      node_[key] = child.node();
+    } else {
+      node_[key] = value;
+    }
+  }
+  const YAML::Node& node() const { return node_; }
+
+ private:
+  YAML::Node node_{YAML::NodeType::Map};
+};
+
+// Checks the ranges of a struct built in code; throws std::invalid_argument naming the field.
+class ConfigValidator {
+ public:
+  explicit ConfigValidator(std::string prefix = "") : prefix_(std::move(prefix)) {}
+
+  template <typename T>
+  void operator()(const char* key, const T& value, Check check = Check::kAny) {
+    if constexpr (config_detail::IsConfigStruct<T>::value) {
+      ConfigValidator child(prefix_ + key + ".");
+      T copy = value;
+      copy.VisitFields(child);
+    } else if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+      Report(key, config_detail::CheckValue(static_cast<double>(value), check));
+    } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+      for (double x : value) Report(key, config_detail::CheckValue(x, check));
+    }
+  }
+
+ private:
+  void Report(const char* key, const std::string& problem) const;
+  std::string prefix_;
+};
+
+// Loads a whole YAML file into a config struct (the file's top level is the struct).
+template <typename Config>
+Config LoadConfigFile(const std::string& file) {
+  const YAML::Node root = LoadYamlFile(file);
+  Config config;
+  if (root.IsNull()) return config;
+  if (!root.IsMap()) ThrowInputError(file, config_detail::LineOf(root), "expected a map of settings");
+  ConfigReader reader(root, file);
+  config.VisitFields(reader);
+  reader.RejectUnknownKeys();
+  return config;
+}
+
+template <typename Config>
+void ValidateConfig(const Config& config, const std::string& prefix = "") {
+  ConfigValidator validator(prefix);
+  Config copy = config;
+  copy.VisitFields(validator);
+}
+
+template <typename Config>
+YAML::Node ConfigToYaml(const Config& config) {
+  ConfigWriter writer;
+  Config copy = config;
+  copy.VisitFields(writer);
+  return writer.node();
+}
+
+}  // namespace planemap

@@ -1,0 +1,26 @@
+#pragma once
+// Rigid transforms. Naming: T_a_b maps coordinates in frame b into frame a, so T_a_b * T_b_c = T_a_c
+// and p_a = T_a_b * p_b (DESIGN.md conventions).
+#include <Eigen/Geometry>
+
+namespace planemap {
+
+using Pose3 = Eigen::Isometry3d;
+
+// Pose from a (not necessarily normalised) quaternion and a translation [m].
+Pose3 MakePose(const Eigen::Quaterniond& q, const Eigen::Vector3d& t);
+
+// Pose from roll, pitch, yaw [rad] (R = Rz(yaw) Ry(pitch) Rx(roll)) and a translation [m].
+Pose3 MakePoseRpy(double roll, double pitch, double yaw, const Eigen::Vector3d& t);
+
+// Rotation angle of R [rad], in [0, pi].
+double RotationAngle(const Eigen::Matrix3d& R);
+
+// Interpolates between two poses: slerp on rotation, linear on translation; s in [0, 1].
+Pose3 Interpolate(const Pose3& T_a, const Pose3& T_b, double s);
+
+// Camera optical frame (x right, y down, z forward) expressed in a REP-103 body frame
+// (x forward, y left, z up): R_body_optical.
+Eigen::Matrix3d RotationBodyFromOptical();
+
+}  // namespace planemap

@@ -1,0 +1,43 @@
+#include "planemap/core/pose.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace planemap {
+
+Pose3 MakePose(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
+  Pose3 T = Pose3::Identity();
+  T.linear() = q.normalized().toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+Pose3 MakePoseRpy(double roll, double pitch, double yaw, const Eigen::Vector3d& t) {
+  const Eigen::Quaterniond q = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+  return MakePose(q, t);
+}
+
+double RotationAngle(const Eigen::Matrix3d& R) {
+  // atan2 form stays accurate near 0 and pi, unlike acos((trace - 1) / 2).
+  const Eigen::Vector3d axis_sin(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
+  return std::atan2(0.5 * axis_sin.norm(), 0.5 * (R.trace() - 1.0));
+}
+
+Pose3 Interpolate(const Pose3& T_a, const Pose3& T_b, double s) {
+  const Eigen::Quaterniond q_a(T_a.linear());
+  const Eigen::Quaterniond q_b(T_b.linear());
+  return MakePose(q_a.slerp(s, q_b), (1.0 - s) * T_a.translation() + s * T_b.translation());
+}
+
+Eigen::Matrix3d RotationBodyFromOptical() {
+  Eigen::Matrix3d R;
+  // Columns: optical x (right) = -body y, optical y (down) = -body z, optical z (forward) = body x.
+  R << 0, 0, 1,
+      -1, 0, 0,
+       0, -1, 0;
+  return R;
+}
+
+}  // namespace planemap

@@ -1,0 +1,60 @@
+#pragma once
+// Shared helpers of the test suite: paths, temporary folders, pose and plane matchers.
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "planemap/core/plane.h"
+#include "planemap/core/pose.h"
+
+namespace planemap::testing {
+
+// A path inside the source tree, e.g. SourcePath("configs/scenes/default.yaml").
+std::string SourcePath(const std::string& relative);
+// A path inside ../shared (the real data sets), e.g. SharedPath("data/tum_frame_pairs").
+std::string SharedPath(const std::string& relative);
+
+// A fresh, empty folder under the system temp dir, removed when the object dies.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  std::string File(const std::string& name) const { return path_ + "/" + name; }
+  // Writes `content` to File(name) and returns its path.
+  std::string Write(const std::string& name, const std::string& content) const;
+
+ private:
+  std::string path_;
+};
+
+// Rotation error [deg] and translation error [m] between two poses.
+double RotationErrorDeg(const Pose3& a, const Pose3& b);
+double TranslationError(const Pose3& a, const Pose3& b);
+
+// Asserts that two poses agree within `deg` degrees and `metres`.
+::testing::AssertionResult PosesNear(const Pose3& a, const Pose3& b, double deg, double metres);
+
+// Asserts that two planes agree within `deg` degrees between normals and `metres` in offset.
+::testing::AssertionResult PlanesNear(const Plane& a, const Plane& b, double deg, double metres);
+
+// Runs `fn` and asserts that it throws an exception whose message contains every fragment.
+template <typename Fn>
+::testing::AssertionResult ThrowsWith(Fn&& fn, std::initializer_list<std::string> fragments) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    const std::string message = e.what();
+    for (const std::string& f : fragments) {
+      if (message.find(f) == std::string::npos) {
+        return ::testing::AssertionFailure() << "message '" << message << "' lacks '" << f << "'";
+      }
+    }
+    return ::testing::AssertionSuccess() << message;
+  }
+  return ::testing::AssertionFailure() << "no exception";
+}
+
+}  // namespace planemap::testing
