@@ -1,1 +1,245 @@
+// YAML configs: camera files, the default app config, and errors that name file, line and key.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "planemap/apps/app_config.h"
+#include "planemap/core/config.h"
+#include "planemap/core/error.h"
+#include "planemap/core/intrinsics.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace planemap {
+namespace {
+
+using planemap::testing::SourcePath;
+using planemap::testing::TempDir;
+using planemap::testing::ThrowsWith;
+
+std::vector<std::string> CameraFiles() {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(SourcePath("configs/cameras"))) {
+    if (entry.path().extension() == ".yaml") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST(CameraFiles, EveryFileLoadsAndValidates) {
+  const std::vector<std::string> files = CameraFiles();
+  ASSERT_GE(files.size(), 6u);
+  for (const std::string& file : files) {
+    SCOPED_TRACE(file);
+    CameraIntrinsics camera;
+    ASSERT_NO_THROW(camera = LoadCameraIntrinsics(file));
+    EXPECT_NO_THROW(ValidateConfig(camera));
+    // Every shipped camera is a VGA sensor with its principal point inside the image.
+    EXPECT_EQ(camera.width, 640);
+    EXPECT_EQ(camera.height, 480);
+    EXPECT_GT(camera.cx, 0.0);
+    EXPECT_LT(camera.cx, camera.width);
+    EXPECT_GT(camera.cy, 0.0);
+    EXPECT_LT(camera.cy, camera.height);
+    // Focal lengths of Kinect / Xtion class cameras [px].
+    EXPECT_GT(camera.fx, 400.0);
+    EXPECT_LT(camera.fx, 650.0);
+    EXPECT_GT(camera.fy, 400.0);
+    EXPECT_LT(camera.fy, 650.0);
+  }
+}
+
+TEST(CameraFiles, SpotCheckValues) {
+  const CameraIntrinsics fr1 = LoadCameraIntrinsics(SourcePath("configs/cameras/tum_fr1.yaml"));
+  EXPECT_DOUBLE_EQ(fr1.fx, 517.3);
+  EXPECT_DOUBLE_EQ(fr1.fy, 516.5);
+  EXPECT_DOUBLE_EQ(fr1.cx, 318.6);
+  EXPECT_DOUBLE_EQ(fr1.cy, 255.3);
+  EXPECT_DOUBLE_EQ(fr1.depth_scale, 5000.0);
+
+  const CameraIntrinsics xtion = LoadCameraIntrinsics(SourcePath("configs/cameras/xtion_nao.yaml"));
+  EXPECT_DOUBLE_EQ(xtion.depth_scale, 1000.0);  // millimetres
+  EXPECT_DOUBLE_EQ(xtion.fx, 570.3);
+
+  const CameraIntrinsics fr3 = LoadCameraIntrinsics(SourcePath("configs/cameras/tum_fr3.yaml"));
+  EXPECT_DOUBLE_EQ(fr3.depth_scale, 5000.0);
+  EXPECT_DOUBLE_EQ(fr3.fx, 535.4);
+  EXPECT_DOUBLE_EQ(fr3.fy, 539.2);
+
+  const CameraIntrinsics openni = LoadCameraIntrinsics(SourcePath("configs/cameras/tum_openni_default.yaml"));
+  EXPECT_DOUBLE_EQ(openni.fx, 525.0);
+  EXPECT_DOUBLE_EQ(openni.cx, 319.5);
+  EXPECT_DOUBLE_EQ(openni.cy, 239.5);
+}
+
+TEST(CameraFiles, KeysLeftOutKeepDefaults) {
+  TempDir dir;
+  const std::string file = dir.Write("partial.yaml", "fx: 600.0\n");
+  const CameraIntrinsics camera = LoadCameraIntrinsics(file);
+  const CameraIntrinsics defaults;
+  EXPECT_DOUBLE_EQ(camera.fx, 600.0);
+  EXPECT_DOUBLE_EQ(camera.fy, defaults.fy);
+  EXPECT_EQ(camera.width, defaults.width);
+  EXPECT_DOUBLE_EQ(camera.depth_scale, defaults.depth_scale);
+}
+
+TEST(AppConfigFile, DefaultYamlEqualsTheDefaultsInCode) {
+  const AppConfig loaded = LoadConfigFile<AppConfig>(SourcePath("configs/default.yaml"));
+  EXPECT_EQ(YAML::Dump(ConfigToYaml(loaded)), YAML::Dump(ConfigToYaml(AppConfig{})));
+  EXPECT_NO_THROW(ValidateConfig(loaded));
+  EXPECT_DOUBLE_EQ(loaded.dataset.max_association_gap, 0.02);  // [s]
+  EXPECT_DOUBLE_EQ(loaded.render.noise.sigma_coefficient, 0.001425);
+}
+
+TEST(AppConfigFile, WrittenConfigReadsBackEqual) {
+  TempDir dir;
+  AppConfig config;
+  config.dataset.max_association_gap = 0.033;
+  config.render.noise.max_depth = 5.5;
+  config.render.add_noise = false;
+  config.render.light_direction = {0.0, -1.0, 2.0};
+  const std::string file = dir.File("app.yaml");
+  SaveYamlFile(ConfigToYaml(config), file);
+  const AppConfig loaded = LoadConfigFile<AppConfig>(file);
+  EXPECT_EQ(YAML::Dump(ConfigToYaml(loaded)), YAML::Dump(ConfigToYaml(config)));
+  EXPECT_DOUBLE_EQ(loaded.dataset.max_association_gap, 0.033);
+  EXPECT_DOUBLE_EQ(loaded.render.noise.max_depth, 5.5);
+}
+
+TEST(AppConfigFile, EmptyFileGivesDefaults) {
+  TempDir dir;
+  const std::string file = dir.Write("empty.yaml", "# nothing set\n");
+  const AppConfig loaded = LoadConfigFile<AppConfig>(file);
+  EXPECT_EQ(YAML::Dump(ConfigToYaml(loaded)), YAML::Dump(ConfigToYaml(AppConfig{})));
+}
+
+// --- Errors ------------------------------------------------------------------------------------
+
+TEST(ConfigErrors, UnknownTopLevelKey) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "fx: 500.0\nfy: 500.0\nfocal: 500.0\n");
+  EXPECT_THROW(LoadCameraIntrinsics(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file + ":3", "focal"}));
+}
+
+TEST(ConfigErrors, UnknownNestedKey) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml",
+                                     "dataset:\n"
+                                     "  max_association_gap: 0.02\n"
+                                     "render:\n"
+                                     "  ambient: 0.3\n"
+                                     "  noise:\n"
+                                     "    gaussian: true\n"
+                                     "    sigma_coef: 0.002\n");
+  EXPECT_THROW(LoadConfigFile<AppConfig>(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(file); }, {file + ":7", "render.noise.sigma_coef"}));
+}
+
+TEST(ConfigErrors, StringWhereANumberIsExpected) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "fx: 525.0\nfy: five hundred\n");
+  EXPECT_THROW(LoadCameraIntrinsics(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file + ":2", "fy", "five hundred"}));
+
+  const std::string nested = dir.Write("nested.yaml", "render:\n  noise:\n    max_depth: far\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(nested); }, {nested + ":3", "render.noise.max_depth"}));
+}
+
+TEST(ConfigErrors, StringWhereAnIntegerIsExpected) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "width: 640.5\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file + ":1", "width"}));
+}
+
+TEST(ConfigErrors, NanValue) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "fx: 525.0\nfy: 525.0\ncx: .nan\n");
+  EXPECT_THROW(LoadCameraIntrinsics(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file + ":3", "cx", "finite"}));
+  // NaN is refused even where any value is allowed (Check::kAny).
+  const std::string light = dir.Write("light.yaml", "render:\n  light_direction: [0.0, .nan, 1.0]\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(light); }, {light + ":2", "render.light_direction"}));
+}
+
+TEST(ConfigErrors, NegativeFocalLength) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "fx: -525.0\n");
+  EXPECT_THROW(LoadCameraIntrinsics(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file + ":1", "fx", "> 0"}));
+}
+
+TEST(ConfigErrors, ZeroWidth) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "fx: 525.0\nwidth: 0\nheight: 480\n");
+  EXPECT_THROW(LoadCameraIntrinsics(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file + ":2", "width", "> 0"}));
+}
+
+TEST(ConfigErrors, ProbabilityOutOfRange) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "render:\n  noise:\n    edge_dropout_probability: 1.5\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(file); },
+                         {file + ":3", "render.noise.edge_dropout_probability", "[0, 1]"}));
+}
+
+TEST(ConfigErrors, ScalarWhereAMapIsExpected) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "dataset: 0.02\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(file); }, {file + ":1", "dataset"}));
+}
+
+TEST(ConfigErrors, MissingFile) {
+  TempDir dir;
+  const std::string file = dir.File("does_not_exist.yaml");
+  EXPECT_THROW(LoadCameraIntrinsics(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file, "cannot open"}));
+}
+
+TEST(ConfigErrors, YamlSyntaxError) {
+  TempDir dir;
+  // An unclosed flow sequence on line 3.
+  const std::string file = dir.Write("bad.yaml", "fx: 525.0\nfy: 525.0\ncx: [319.5\n");
+  EXPECT_THROW(LoadCameraIntrinsics(file), InputError);
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file + ":", "YAML syntax error"}));
+
+  // A bad indentation on line 2 reports line 2.
+  const std::string indent = dir.Write("indent.yaml", "fx: 525.0\n  fy: 525.0\ncx: 1\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(indent); }, {indent + ":2", "YAML syntax error"}));
+}
+
+TEST(ConfigErrors, TopLevelNotAMap) {
+  TempDir dir;
+  const std::string file = dir.Write("bad.yaml", "- 1\n- 2\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file, "map"}));
+}
+
+TEST(ValidateConfig, StructBuiltInCodeWithNegativeFx) {
+  CameraIntrinsics camera;
+  camera.fx = -1.0;
+  EXPECT_THROW(ValidateConfig(camera), std::invalid_argument);
+  EXPECT_TRUE(ThrowsWith([&] { ValidateConfig(camera); }, {"fx", "> 0"}));
+  EXPECT_TRUE(ThrowsWith([&] { ValidateConfig(camera, "camera."); }, {"camera.fx"}));
+}
+
+TEST(ValidateConfig, NestedFieldIsNamedWithItsPath) {
+  AppConfig config;
+  config.render.noise.max_depth = std::nan("");
+  EXPECT_THROW(ValidateConfig(config), std::invalid_argument);
+  EXPECT_TRUE(ThrowsWith([&] { ValidateConfig(config); }, {"render.noise.max_depth", "finite"}));
+}
+
+TEST(ValidateConfig, DefaultsPass) {
+  EXPECT_NO_THROW(ValidateConfig(CameraIntrinsics{}));
+  EXPECT_NO_THROW(ValidateConfig(AppConfig{}));
+}
+
+}  // namespace
+}  // namespace planemap

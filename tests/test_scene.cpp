@@ -1,1 +1,153 @@
+// Scene files: the default layout of the paper's Fig. 2 and every kind of bad input.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "planemap/core/error.h"
+#include "planemap/sim/scene.h"
+#include "test_support.h"
+
+namespace planemap::sim {
+namespace {
+
+using planemap::testing::SourcePath;
+using planemap::testing::TempDir;
+using planemap::testing::ThrowsWith;
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+TEST(Scene, DefaultSceneHasTheLayoutOfFig2) {
+  const Scene scene = LoadScene(SourcePath("configs/scenes/default.yaml"));
+  EXPECT_EQ(scene.name, "fig2");
+  ASSERT_EQ(scene.objects.size(), 3u);
+  const SceneObject& box = scene.object("box");
+  EXPECT_EQ(box.type, "box");
+  EXPECT_NEAR(box.dimensions.x(), 0.25, 1e-12);
+  EXPECT_NEAR(box.dimensions.y(), 0.35, 1e-12);
+  EXPECT_NEAR(box.dimensions.z(), 0.25, 1e-12);
+  // The box stands on the floor: its bottom face lies in the floor plane z = 0.
+  EXPECT_NEAR(box.T_world_object.translation().z() - box.dimensions.z() / 2, 0.0, 1e-12);
+  EXPECT_EQ(scene.object("locker1").type, "open_locker");
+  EXPECT_EQ(scene.object("locker1").cuboids.size(), 4u);  // back, left, right, top panels
+  EXPECT_EQ(scene.object("locker2").cuboids.size(), 1u);
+  // Floor + 4 walls + 6 faces for each of 1 + 4 + 1 cuboids.
+  EXPECT_EQ(scene.surfaces.size(), 5u + 6u * 6u);
+  EXPECT_EQ(scene.markers.size(), 3u);
+  for (size_t i = 0; i < scene.surfaces.size(); ++i) EXPECT_EQ(scene.surfaces[i].label, i + 1);
+}
+
+TEST(Scene, SurfacesAreConsistentRectangles) {
+  const Scene scene = LoadScene(SourcePath("configs/scenes/default.yaml"));
+  for (const Surface& s : scene.surfaces) {
+    SCOPED_TRACE(s.object + " " + s.part + " " + s.face);
+    EXPECT_NEAR(s.plane_world.normal.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(s.axis_u.dot(s.axis_v), 0.0, 1e-12);
+    EXPECT_NEAR((s.axis_u.cross(s.axis_v) - s.plane_world.normal).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(s.plane_world.SignedDistance(s.center_world), 0.0, 1e-12);
+    EXPECT_GT(s.half_u, 0.0);
+    EXPECT_GT(s.half_v, 0.0);
+  }
+}
+
+TEST(Scene, BoxFacesPointOutOfTheBoxAndMatchItsDimensions) {
+  const Scene scene = LoadScene(SourcePath("configs/scenes/default.yaml"));
+  const SceneObject& box = scene.object("box");
+  const Cuboid& cuboid = scene.cuboids[box.cuboids[0]];
+  const Eigen::Vector3d center = cuboid.T_world_box.translation();
+  for (int f = 0; f < 6; ++f) {
+    const Surface& s = scene.surface(cuboid.face_labels[f]);
+    EXPECT_EQ(s.face, kFaceNames[f]);
+    // The centre is inside: at minus half the dimension along the face normal.
+    EXPECT_NEAR(s.plane_world.SignedDistance(center), -cuboid.dimensions[f / 2] / 2, 1e-12);
+  }
+  // The top face is horizontal, at the box height.
+  const Surface& top = scene.surface(cuboid.face_labels[4]);
+  EXPECT_NEAR(top.plane_world.normal.z(), 1.0, 1e-12);
+  EXPECT_NEAR(-top.plane_world.offset, 0.25, 1e-12);
+}
+
+TEST(Scene, WallNormalsFaceIntoTheRoomAndWallsAreVertical) {
+  const Scene scene = LoadScene(SourcePath("configs/scenes/default.yaml"));
+  const Eigen::Vector3d room_center(1.75, 0.0, 1.0);
+  int walls = 0;
+  for (const Surface& s : scene.surfaces) {
+    if (s.object.rfind("wall", 0) != 0) continue;
+    ++walls;
+    EXPECT_GT(s.plane_world.SignedDistance(room_center), 2.0) << s.object;
+    EXPECT_NEAR(std::asin(std::abs(s.plane_world.normal.z())) * kRadToDeg, 0.0, 1e-9) << s.object;
+  }
+  EXPECT_EQ(walls, 4);
+}
+
+TEST(Scene, OpenLockerShowsItsInsideTowardTheFront) {
+  const Scene scene = LoadScene(SourcePath("configs/scenes/default.yaml"));
+  const SceneObject& locker = scene.object("locker1");
+  const Eigen::Vector3d front = locker.T_world_object.linear().col(0);
+  // The back panel's inner face (+x) faces the opening; the side panels' inner faces face each other.
+  const Surface* back_inner = nullptr;
+  const Surface* left_inner = nullptr;
+  const Surface* right_inner = nullptr;
+  for (const Surface& s : scene.surfaces) {
+    if (s.object != "locker1") continue;
+    if (s.part == "back" && s.face == "+x") back_inner = &s;
+    if (s.part == "left" && s.face == "-y") left_inner = &s;
+    if (s.part == "right" && s.face == "+y") right_inner = &s;
+  }
+  ASSERT_TRUE(back_inner && left_inner && right_inner);
+  EXPECT_NEAR(back_inner->plane_world.normal.dot(front), 1.0, 1e-12);
+  EXPECT_NEAR(left_inner->plane_world.normal.dot(right_inner->plane_world.normal), -1.0, 1e-12);
+  // Inner width = width - 2 x panel thickness = 0.76 m.
+  EXPECT_NEAR(std::abs(left_inner->plane_world.SignedDistance(right_inner->center_world)), 0.76, 1e-12);
+}
+
+TEST(Scene, GroundTruthListsObjectsAndSurfaces) {
+  const Scene scene = LoadScene(SourcePath("configs/scenes/default.yaml"));
+  const YAML::Node gt = SceneGroundTruth(scene);
+  ASSERT_EQ(gt["objects"].size(), 3u);
+  ASSERT_EQ(gt["surfaces"].size(), scene.surfaces.size());
+  EXPECT_NEAR(gt["objects"][0]["dimensions"][1].as<double>(), 0.35, 1e-12);
+  EXPECT_NEAR(gt["surfaces"][0]["normal"][2].as<double>(), 1.0, 1e-12);  // the floor
+}
+
+// A minimal valid scene, with `extra` appended to the object's map.
+std::string SceneWithObject(const std::string& extra) {
+  return "name: t\n"
+         "floor: {center: [0, 0], size: [4, 4]}\n"
+         "objects:\n"
+         "  - name: b\n"
+         "    position: [1, 0, 0.1]\n"
+         "    dimensions: [0.2, 0.2, 0.2]\n" + extra;
+}
+
+TEST(Scene, BadInputNamesFileLineAndKey) {
+  TempDir dir;
+  EXPECT_NO_THROW(LoadScene(dir.Write("ok.yaml", SceneWithObject(""))));
+  const std::string unknown_type = dir.Write("type.yaml", SceneWithObject("    type: sphere\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(unknown_type); }, {unknown_type + ":4", "unknown object type 'sphere'"}));
+  const std::string typo = dir.Write("typo.yaml", SceneWithObject("    colour: [1, 2, 3]\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(typo); }, {typo + ":7", "unknown key 'objects[0].colour'"}));
+  const std::string negative = dir.Write("neg.yaml", SceneWithObject("").replace(
+      SceneWithObject("").find("[0.2, 0.2, 0.2]"), 15, "[0.2, -0.2, 0.2]"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(negative); }, {negative + ":6", "dimensions", "must be > 0"}));
+  const std::string two_dims = dir.Write("two.yaml", "name: t\nobjects:\n  - {name: b, position: [0, 0, 0], dimensions: [1, 2]}\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(two_dims); }, {two_dims + ":3", "dimensions needs 3 numbers"}));
+  const std::string duplicate = dir.Write(
+      "dup.yaml", SceneWithObject("  - {name: b, position: [2, 0, 0.1], dimensions: [0.2, 0.2, 0.2]}\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(duplicate); }, {duplicate + ":7", "duplicate name 'b'"}));
+  const std::string bad_marker = dir.Write(
+      "marker.yaml", SceneWithObject("markers:\n  - {id: 3, on: nothing, face: '+z'}\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(bad_marker); }, {bad_marker + ":8", "no surface 'nothing'"}));
+  const std::string bad_dict = dir.Write(
+      "dict.yaml", SceneWithObject("markers:\n  - {id: 3, dictionary: DICT_9X9, on: floor}\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(bad_dict); }, {bad_dict + ":8", "unknown ArUco dictionary 'DICT_9X9'"}));
+  const std::string bad_id = dir.Write(
+      "id.yaml", SceneWithObject("markers:\n  - {id: 50, dictionary: DICT_4X4_50, on: floor}\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(bad_id); }, {bad_id + ":8", "50 is not in DICT_4X4_50"}));
+  const std::string thick = dir.Write("thick.yaml", SceneWithObject("    type: open_locker\n    panel_thickness: 0.15\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(thick); }, {thick + ":4", "panel_thickness"}));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(dir.File("missing.yaml")); }, {dir.File("missing.yaml"), "cannot open"}));
+  const std::string syntax = dir.Write("syntax.yaml", "name: [unclosed\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(syntax); }, {syntax, "YAML syntax error"}));
+}
+
+}  // namespace
+}  // namespace planemap::sim

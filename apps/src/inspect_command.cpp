@@ -9,7 +9,11 @@
 namespace planemap {
 
 int RunInspect(const InspectOptions& options) {
-  const CameraIntrinsics camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
+  const std::optional<CameraIntrinsics> stored = TumSequence::StoredCamera(options.sequence);
+  const CameraIntrinsics camera =
+      !options.camera.empty() ? LoadCameraIntrinsics(ResolveConfigPath(options.camera))
+      : stored               ? *stored
+                             : LoadCameraIntrinsics(ResolveConfigPath("configs/cameras/tum_openni_default.yaml"));
   const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
   const TumSequence sequence = TumSequence::Open(options.sequence, camera, config.dataset);
   const size_t n = options.max_frames >= 0 ? std::min<size_t>(options.max_frames, sequence.size()) : sequence.size();
@@ -34,6 +38,8 @@ int RunInspect(const InspectOptions& options) {
               span > 0 ? (sequence.size() - 1) / span : 0.0, n);
   std::printf("  ground truth: %s, %zu of %zu read frames have a pose within %.3f s\n",
               sequence.has_groundtruth() ? "yes" : "no", with_groundtruth, n, config.dataset.max_groundtruth_gap);
+  std::printf("  camera: fx %.1f fy %.1f cx %.1f cy %.1f, %dx%d, %.0f depth units per metre\n", camera.fx, camera.fy,
+              camera.cx, camera.cy, camera.width, camera.height, camera.depth_scale);
   std::printf("  labels: %s\n", sequence.has_labels() ? "yes" : "no");
   if (n > 0) std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", 100.0 * valid_sum / n, z_min, z_max);
   return 0;

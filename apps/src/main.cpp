@@ -29,7 +29,9 @@ int main(int argc, char** argv) {
   planemap::InspectOptions inspect;
   CLI::App* inspect_cmd = app.add_subcommand("inspect", "Read a TUM-layout RGB-D sequence and report what it holds");
   inspect_cmd->add_option("sequence", inspect.sequence, "Sequence folder (rgb.txt, depth.txt, ...)")->required();
-  inspect_cmd->add_option("--camera", inspect.camera, "Camera intrinsics (YAML)")->capture_default_str();
+  inspect_cmd->add_option("--camera", inspect.camera,
+                          "Camera intrinsics (YAML); default: the sequence's camera.yaml, else "
+                          "configs/cameras/tum_openni_default.yaml");
   inspect_cmd->add_option("--config", inspect.config, "Settings (YAML)")->capture_default_str();
   inspect_cmd->add_option("--max-frames", inspect.max_frames, "Read only the first N frames");
 

@@ -35,13 +35,12 @@ struct DepthStats {
 };
 
 void WriteMetadata(const std::string& out, const std::string& scene_file, const sim::Scene& scene,
-                   const CameraIntrinsics& camera, const AppConfig& config) {
+                   const AppConfig& config) {
   const fs::path root(out);
   std::error_code ec;
   fs::copy_file(scene_file, root / "scene.yaml", fs::copy_options::overwrite_existing, ec);
   if (ec) ThrowInputError((root / "scene.yaml").string(), 0, "cannot copy the scene: " + ec.message());
   SaveYamlFile(sim::SceneGroundTruth(scene), (root / "scene_groundtruth.yaml").string());
-  SaveYamlFile(ConfigToYaml(camera), (root / "camera.yaml").string());
   SaveYamlFile(ConfigToYaml(config), (root / "config.yaml").string());
 }
 
@@ -62,7 +61,7 @@ int RunRender(const RenderOptions& options) {
 
   const sim::VirtualCamera virtual_camera(scene, camera, config.render);
   TumSequenceWriter writer(options.out, camera, /*with_labels=*/true);
-  WriteMetadata(options.out, scene_file, scene, camera, config);
+  WriteMetadata(options.out, scene_file, scene, config);
 
   DepthStats stats;
   const auto start = std::chrono::steady_clock::now();

@@ -46,13 +46,22 @@ std::ofstream CreateOrThrow(const std::string& file) {
   return out;
 }
 
+}  // namespace
+
 std::string FormatStamp(double stamp) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), "%.6f", stamp);
   return buffer;
 }
 
-}  // namespace
+std::string FormatTumPose(const StampedPose& pose) {
+  const Eigen::Vector3d& t = pose.T_world_camera.translation();
+  const Eigen::Quaterniond q(pose.T_world_camera.linear());
+  char buffer[256];
+  std::snprintf(buffer, sizeof(buffer), "%s %.9f %.9f %.9f %.9f %.9f %.9f %.9f", FormatStamp(pose.stamp).c_str(),
+                t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  return buffer;
+}
 
 std::vector<StampedFile> ReadFileList(const std::string& file) {
   std::ifstream in = OpenOrThrow(file);
@@ -112,14 +121,7 @@ Trajectory ReadTumTrajectory(const std::string& file) {
 void WriteTumTrajectory(const std::string& file, const Trajectory& trajectory) {
   std::ofstream out = CreateOrThrow(file);
   out << "# timestamp tx ty tz qx qy qz qw\n";
-  char buffer[256];
-  for (const StampedPose& pose : trajectory) {
-    const Eigen::Vector3d& t = pose.T_world_camera.translation();
-    const Eigen::Quaterniond q(pose.T_world_camera.linear());
-    std::snprintf(buffer, sizeof(buffer), "%s %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
-                  FormatStamp(pose.stamp).c_str(), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-    out << buffer;
-  }
+  for (const StampedPose& pose : trajectory) out << FormatTumPose(pose) << '\n';
   if (!out) ThrowInputError(file, 0, "write failed");
 }
 

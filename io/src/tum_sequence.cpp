@@ -1,5 +1,6 @@
 #include "planemap/io/tum_sequence.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -18,17 +19,23 @@ std::vector<double> Stamps(const std::vector<StampedFile>& files) {
   return stamps;
 }
 
-std::string StampName(double stamp) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.6f", stamp);
-  return buffer;
-}
-
 std::string ListRef(const std::string& dir, const char* list, const StampedFile& f) {
   return (fs::path(dir) / list).string() + ":" + std::to_string(f.line);
 }
 
+bool SameCamera(const CameraIntrinsics& a, const CameraIntrinsics& b) {
+  auto same = [](double x, double y) { return std::abs(x - y) <= 1e-9 * std::max(1.0, std::abs(x)); };
+  return same(a.fx, b.fx) && same(a.fy, b.fy) && same(a.cx, b.cx) && same(a.cy, b.cy) && a.width == b.width &&
+         a.height == b.height && same(a.depth_scale, b.depth_scale);
+}
+
 }  // namespace
+
+std::optional<CameraIntrinsics> TumSequence::StoredCamera(const std::string& dir) {
+  const fs::path file = fs::path(dir) / "camera.yaml";
+  if (!fs::exists(file)) return std::nullopt;
+  return LoadCameraIntrinsics(file.string());
+}
 
 TumSequence TumSequence::Open(const std::string& dir, const CameraIntrinsics& camera,
                               const DatasetConfig& config) {
@@ -36,6 +43,15 @@ TumSequence TumSequence::Open(const std::string& dir, const CameraIntrinsics& ca
   ValidateConfig(config, "dataset.");
   if (!fs::is_directory(dir)) ThrowInputError(dir, 0, "sequence folder does not exist");
   const fs::path root(dir);
+  if (const std::optional<CameraIntrinsics> stored = StoredCamera(dir)) {
+    if (!SameCamera(*stored, camera)) {
+      ThrowInputError((root / "camera.yaml").string(), 0,
+                      "the sequence was written with another camera (fx " + std::to_string(stored->fx) +
+                          ", depth_scale " + std::to_string(stored->depth_scale) + ") than the one given (fx " +
+                          std::to_string(camera.fx) + ", depth_scale " + std::to_string(camera.depth_scale) +
+                          "); use this camera.yaml");
+    }
+  }
   const std::vector<StampedFile> rgb = ReadFileList((root / "rgb.txt").string());
   const std::vector<StampedFile> depth = ReadFileList((root / "depth.txt").string());
 
@@ -110,6 +126,7 @@ TumSequenceWriter::TumSequenceWriter(const std::string& dir, const CameraIntrins
     fs::create_directories(root / sub, ec);
     if (ec) ThrowInputError((root / sub).string(), 0, "cannot create folder: " + ec.message());
   }
+  SaveYamlFile(ConfigToYaml(camera), (root / "camera.yaml").string());
   auto open = [&](std::ofstream& out, const char* name, const char* header) {
     out.open(root / name);
     if (!out) ThrowInputError((root / name).string(), 0, "cannot open file for writing");
@@ -131,8 +148,8 @@ void TumSequenceWriter::AppendLine(std::ofstream& list, const std::string& file,
 
 void TumSequenceWriter::Add(const RgbdFrame& frame, const LabelImage* labels) {
   const fs::path root(dir_);
-  const std::string depth_name = StampName(frame.stamp);
-  const std::string color_name = StampName(frame.color_stamp);
+  const std::string depth_name = FormatStamp(frame.stamp);
+  const std::string color_name = FormatStamp(frame.color_stamp);
   const std::string rgb_path = "rgb/" + color_name + ".png";
   const std::string depth_path = "depth/" + depth_name + ".png";
   WriteColorPng((root / rgb_path).string(), frame.color);
@@ -148,12 +165,7 @@ void TumSequenceWriter::Add(const RgbdFrame& frame, const LabelImage* labels) {
   AppendLine(associations_, "associations.txt",
              color_name + " " + rgb_path + " " + depth_name + " " + depth_path);
   if (frame.T_world_camera) {
-    const Eigen::Vector3d& t = frame.T_world_camera->translation();
-    const Eigen::Quaterniond q(frame.T_world_camera->linear());
-    char buffer[256];
-    std::snprintf(buffer, sizeof(buffer), "%s %.9f %.9f %.9f %.9f %.9f %.9f %.9f", depth_name.c_str(),
-                  t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-    AppendLine(groundtruth_, "groundtruth.txt", buffer);
+    AppendLine(groundtruth_, "groundtruth.txt", FormatTumPose({frame.stamp, *frame.T_world_camera}));
   }
   ++frames_written_;
 }

@@ -67,34 +67,41 @@ DepthImage ApplySensorNoise(const SensorNoiseConfig& config, const ExactDepth& e
   const DepthImage& z_exact = exact.depth;
   DepthImage depth(z_exact.width(), z_exact.height(), 0.0f);
   const std::vector<bool> near_edge = config.edge_dropout ? DiscontinuityMask(config, z_exact) : std::vector<bool>();
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::normal_distribution<double> normal(0.0, 1.0);
   const double graze0 = config.grazing_start_deg * kDegToRad, graze1 = config.grazing_full_deg * kDegToRad;
+  const int w = z_exact.width();
 
-  for (size_t i = 0; i < z_exact.size(); ++i) {
-    const double z = z_exact.pixels()[i];
-    if (!IsValidDepth(static_cast<float>(z))) continue;
-    // Every pixel draws the same random numbers whatever is switched on, so turning one part of
-    // the model on or off leaves the others' draws unchanged.
-    const double u_graze = uniform(rng), u_edge = uniform(rng), u_random = uniform(rng), g = normal(rng);
-    if (config.grazing_dropout) {
-      const double angle = exact.incidence.pixels()[i];
-      const double p = graze1 > graze0 ? (angle - graze0) / (graze1 - graze0) : (angle >= graze0 ? 1.0 : 0.0);
-      if (u_graze < p) continue;
+  // One generator per row, seeded from the frame seed and the row: deterministic whatever the
+  // number of threads.
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < z_exact.height(); ++v) {
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(v) * 0xBF58476D1CE4E5B9ull + 1);
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (int u = 0; u < w; ++u) {
+      const size_t i = static_cast<size_t>(v) * w + u;
+      const double z = z_exact.pixels()[i];
+      if (!IsValidDepth(static_cast<float>(z))) continue;
+      // Every pixel draws the same random numbers whatever is switched on, so turning one part
+      // of the model on or off leaves the others' draws unchanged.
+      const double u_graze = uniform(rng), u_edge = uniform(rng), u_random = uniform(rng), g = normal(rng);
+      if (config.grazing_dropout) {
+        const double angle = exact.incidence.pixels()[i];
+        const double p = graze1 > graze0 ? (angle - graze0) / (graze1 - graze0) : (angle >= graze0 ? 1.0 : 0.0);
+        if (u_graze < p) continue;
+      }
+      if (config.edge_dropout && near_edge[i] && u_edge < config.edge_dropout_probability) continue;
+      if (u_random < config.random_dropout_probability) continue;
+      double measured = z;
+      if (config.gaussian) measured += config.sigma_coefficient * z * z * g;
+      if (config.quantization && measured > 0.0) {
+        // Depth z is disparity f*b/z; the sensor reports disparity in steps of disparity_step.
+        const double disparity = config.focal_baseline / measured;
+        const double quantized = std::round(disparity / config.disparity_step) * config.disparity_step;
+        measured = quantized > 0.0 ? config.focal_baseline / quantized : 0.0;
+      }
+      if (measured < config.min_depth || measured > config.max_depth) continue;
+      depth.pixels()[i] = static_cast<float>(measured);
     }
-    if (config.edge_dropout && near_edge[i] && u_edge < config.edge_dropout_probability) continue;
-    if (u_random < config.random_dropout_probability) continue;
-    double measured = z;
-    if (config.gaussian) measured += config.sigma_coefficient * z * z * g;
-    if (config.quantization && measured > 0.0) {
-      // Depth z is disparity f*b/z; the sensor reports disparity in steps of disparity_step.
-      const double disparity = config.focal_baseline / measured;
-      const double quantized = std::round(disparity / config.disparity_step) * config.disparity_step;
-      measured = quantized > 0.0 ? config.focal_baseline / quantized : 0.0;
-    }
-    if (measured < config.min_depth || measured > config.max_depth) continue;
-    depth.pixels()[i] = static_cast<float>(measured);
   }
   return depth;
 }

@@ -149,6 +149,7 @@ VirtualCamera::RayCast VirtualCamera::Cast(const Pose3& T_world_camera) const {
   }
 
   RayCast cast{{DepthImage(w, h, 0.0f), Image<float>(w, h, 0.0f)}, std::move(labels)};
+#pragma omp parallel for schedule(static)
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
       const size_t i = static_cast<size_t>(v) * w + u;
@@ -187,6 +188,7 @@ Rgb8 Shade(const Scene& scene, const Surface& s, const Eigen::Vector3d& p_world,
 
 ColorImage VirtualCamera::ShadeColor(const RayCast& cast, const Pose3& T_world_camera) const {
   ColorImage color(camera_.width, camera_.height, Rgb8{0, 0, 0});
+#pragma omp parallel for schedule(static)
   for (int v = 0; v < camera_.height; ++v) {
     for (int u = 0; u < camera_.width; ++u) {
       const std::uint16_t label = cast.labels.at(u, v);

@@ -18,7 +18,7 @@ struct RenderOptions {
 
 struct InspectOptions {
   std::string sequence;
-  std::string camera = "configs/cameras/tum_openni_default.yaml";
+  std::string camera;  // empty: the sequence's camera.yaml, else the TUM/OpenNI default
   std::string config = "configs/default.yaml";
   int max_frames = -1;
 };

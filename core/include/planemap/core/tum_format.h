@@ -33,6 +33,11 @@ void WriteFileList(const std::string& file, const std::string& header,
 Trajectory ReadTumTrajectory(const std::string& file);
 void WriteTumTrajectory(const std::string& file, const Trajectory& trajectory);
 
+// One trajectory line "stamp tx ty tz qx qy qz qw" (stamp to the microsecond, pose to 1e-9).
+std::string FormatTumPose(const StampedPose& pose);
+// A stamp as TUM writes it in file names and lists: "%.6f".
+std::string FormatStamp(double stamp);
+
 // Pairs stamps of `a` and `b` like the TUM benchmark's associate.py: all pairs closer than
 // `max_gap` [s], taken greedily by increasing gap, each stamp used at most once. Returns index pairs
 // sorted by the index into `a`.

@@ -38,8 +38,14 @@ class TumSequence {
 
   // Reads the lists and ground truth of `dir`. Throws InputError naming the file and line for a
   // missing folder or list, a malformed line, or a sequence without a single colour/depth pair.
+  // A sequence planemap wrote carries its camera in camera.yaml; a `camera` that differs from it
+  // (say, a depth scale of 1000 for a sequence written with 5000) is an error, not a silent
+  // misreading of every depth.
   static TumSequence Open(const std::string& dir, const CameraIntrinsics& camera,
                           const DatasetConfig& config = {});
+
+  // The camera stored with a sequence (dir/camera.yaml), if there is one.
+  static std::optional<CameraIntrinsics> StoredCamera(const std::string& dir);
 
   size_t size() const { return entries_.size(); }
   const std::string& dir() const { return dir_; }
@@ -69,7 +75,7 @@ class TumSequence {
 // interrupted run leaves a readable sequence of the frames written so far.
 class TumSequenceWriter {
  public:
-  // Creates `dir` with rgb/ and depth/ (and label/ when `with_labels`).
+  // Creates `dir` with rgb/ and depth/ (and label/ when `with_labels`) and writes camera.yaml.
   TumSequenceWriter(const std::string& dir, const CameraIntrinsics& camera, bool with_labels);
 
   // Writes one frame; its ground-truth pose goes to groundtruth.txt when present.
