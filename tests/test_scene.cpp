@@ -108,6 +108,36 @@ TEST(Scene, GroundTruthListsObjectsAndSurfaces) {
   EXPECT_NEAR(gt["surfaces"][0]["normal"][2].as<double>(), 1.0, 1e-12);  // the floor
 }
 
+TEST(Scene, FurnitureIsBuiltFromItsPartsInItsOwnFrame) {
+  const Scene scene = LoadScene(SourcePath("configs/scenes/office.yaml"));
+  const SceneObject& shelf = scene.object("shelf");
+  EXPECT_EQ(shelf.type, "furniture");
+  ASSERT_EQ(shelf.cuboids.size(), 5u);
+  // Bounding box of the parts: 0.35 deep, 0.80 wide (sides at +-0.39 +- 0.01), 1.0 high.
+  EXPECT_NEAR(shelf.dimensions.x(), 0.35, 1e-12);
+  EXPECT_NEAR(shelf.dimensions.y(), 0.80, 1e-12);
+  EXPECT_NEAR(shelf.dimensions.z(), 1.00, 1e-12);
+  // The middle board's top face is 0.51 m above the floor, horizontal, facing up.
+  for (const Surface& s : scene.surfaces) {
+    if (s.object == "shelf" && s.part == "middle" && s.face == "+z") {
+      EXPECT_NEAR(s.plane_world.normal.z(), 1.0, 1e-12);
+      EXPECT_NEAR(-s.plane_world.offset, 0.51, 1e-12);
+    }
+  }
+  // The desk's legs stand on the floor; its top is 0.735 m high.
+  const SceneObject& desk = scene.object("desk");
+  EXPECT_NEAR(desk.dimensions.z(), 0.735, 1e-12);
+  for (size_t index : desk.cuboids) {
+    const Cuboid& c = scene.cuboids[index];
+    EXPECT_GE(c.T_world_box.translation().z() - c.dimensions.z() / 2, -1e-12);
+  }
+  // Per-face colours of the box.
+  for (const Surface& s : scene.surfaces) {
+    if (s.object == "box" && s.face == "+x") EXPECT_EQ(s.color, (Rgb8{200, 60, 50}));
+    if (s.object == "box" && s.face == "-z") EXPECT_EQ(s.color, (Rgb8{120, 120, 120}));
+  }
+}
+
 // A minimal valid scene, with `extra` appended to the object's map.
 std::string SceneWithObject(const std::string& extra) {
   return "name: t\n"
@@ -144,6 +174,18 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   EXPECT_TRUE(ThrowsWith([&] { LoadScene(bad_id); }, {bad_id + ":8", "50 is not in DICT_4X4_50"}));
   const std::string thick = dir.Write("thick.yaml", SceneWithObject("    type: open_locker\n    panel_thickness: 0.15\n"));
   EXPECT_TRUE(ThrowsWith([&] { LoadScene(thick); }, {thick + ":4", "panel_thickness"}));
+  const std::string no_parts = dir.Write("noparts.yaml", "objects:\n  - {name: f, type: furniture, position: [0, 0, 0]}\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(no_parts); }, {no_parts + ":2", "furniture needs 'parts'"}));
+  const std::string bad_part = dir.Write(
+      "badpart.yaml",
+      "objects:\n  - name: f\n    type: furniture\n    position: [0, 0, 0]\n    parts:\n"
+      "      - {name: a, dimensions: [1, 1]}\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(bad_part); }, {bad_part + ":2", "parts[0].dimensions needs 3 numbers"}));
+  const std::string part_typo = dir.Write(
+      "parttypo.yaml",
+      "objects:\n  - name: f\n    type: furniture\n    position: [0, 0, 0]\n    parts:\n"
+      "      - {name: a, dimension: [1, 1, 1]}\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(part_typo); }, {part_typo + ":6", "unknown key 'objects[0].parts[0].dimension'"}));
   EXPECT_TRUE(ThrowsWith([&] { LoadScene(dir.File("missing.yaml")); }, {dir.File("missing.yaml"), "cannot open"}));
   const std::string syntax = dir.Write("syntax.yaml", "name: [unclosed\n");
   EXPECT_TRUE(ThrowsWith([&] { LoadScene(syntax); }, {syntax, "YAML syntax error"}));

@@ -3,6 +3,7 @@
 #include <exception>
 
 #include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "planemap/apps/commands.h"
@@ -36,6 +37,8 @@ int main(int argc, char** argv) {
   inspect_cmd->add_option("--max-frames", inspect.max_frames, "Read only the first N frames");
 
   CLI11_PARSE(app, argc, argv);
+  // Progress and log lines go to stderr; stdout carries only the command's results.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("planemap"));
   spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
   spdlog::set_pattern("[%H:%M:%S] %v");
 

@@ -49,15 +49,34 @@ struct FaceColorSpec {
   }
 };
 
+// One box of a `furniture` object, placed in the object's frame.
+struct PartSpec {
+  std::string name;
+  std::vector<double> position{0.0, 0.0, 0.0};  // box centre in the object frame [m]
+  std::vector<double> rpy_deg{0.0, 0.0, 0.0};   // orientation in the object frame [deg]
+  std::vector<double> dimensions;               // [m]
+  std::vector<double> color;                    // empty: the object's colour
+  template <class V>
+  void VisitFields(V&& v) {
+    v("name", name);
+    v("position", position);
+    v("rpy_deg", rpy_deg);
+    v("dimensions", dimensions, Check::kPositive);
+    v("color", color, Check::kNonNegative);
+  }
+};
+
 struct ObjectSpec {
   std::string name;
-  std::string type = "box";                  // box | locker | open_locker
+  std::string type = "box";                  // box | locker | open_locker | furniture
   std::vector<double> position;              // centre of the bounding box [m]
   std::vector<double> rpy_deg{0.0, 0.0, 0.0};  // orientation [deg]
-  std::vector<double> dimensions;            // along object x (depth), y (width), z (height) [m]
+  std::vector<double> dimensions;            // along object x (depth), y (width), z (height) [m];
+                                             // furniture: derived from its parts
   std::vector<double> color{180, 140, 90};
   FaceColorSpec face_colors;
   double panel_thickness = 0.02;             // open_locker panels [m]
+  std::vector<PartSpec> parts;               // furniture: its boxes
   template <class V>
   void VisitFields(V&& v) {
     v("name", name);
@@ -68,6 +87,7 @@ struct ObjectSpec {
     v("color", color, Check::kNonNegative);
     v("face_colors", face_colors);
     v("panel_thickness", panel_thickness, Check::kPositive);
+    v("parts", parts);
   }
 };
 
@@ -105,6 +125,12 @@ Spec ReadItem(const YAML::Node& item, const std::string& file, const std::string
 }
 
 Eigen::Vector3d Vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+Pose3 Offset(const Eigen::Vector3d& t) {
+  Pose3 T = Pose3::Identity();
+  T.translation() = t;
+  return T;
+}
 
 Rgb8 Color(const std::vector<double>& c) {
   auto clamp = [](double x) { return static_cast<std::uint8_t>(std::min(255.0, std::max(0.0, x))); };
@@ -154,8 +180,13 @@ class SceneBuilder {
     if (!names_.insert(spec.name).second) ThrowInputError(file_, line, where + ": duplicate name '" + spec.name + "'");
     RequireSize(spec.position, 3, where + ".position", line);
     RequireSize(spec.rpy_deg, 3, where + ".rpy_deg", line);
-    RequireSize(spec.dimensions, 3, where + ".dimensions", line);
     RequireSize(spec.color, 3, where + ".color", line);
+    if (spec.type == "furniture") {
+      AddFurniture(spec, line, where);
+      return;
+    }
+    if (!spec.parts.empty()) ThrowInputError(file_, line, where + ": only furniture has 'parts'");
+    RequireSize(spec.dimensions, 3, where + ".dimensions", line);
     SceneObject object;
     object.name = spec.name;
     object.type = spec.type;
@@ -164,20 +195,20 @@ class SceneBuilder {
     object.dimensions = Vec3(spec.dimensions);
     const Eigen::Vector3d& dim = object.dimensions;
     if (spec.type == "box" || spec.type == "locker") {
-      AddCuboid(&object, spec, "", Eigen::Vector3d::Zero(), dim);
+      AddCuboid(&object, spec, "", Pose3::Identity(), dim);
     } else if (spec.type == "open_locker") {
       // Open at the front (+x): back, left (+y), right (-y) and top panels; the floor shows inside.
       const double t = spec.panel_thickness;
       if (2 * t >= dim.y() || t >= dim.x() || t >= dim.z()) {
         ThrowInputError(file_, line, where + ": panel_thickness " + std::to_string(t) + " m does not fit the dimensions");
       }
-      AddCuboid(&object, spec, "back", {-dim.x() / 2 + t / 2, 0, 0}, {t, dim.y(), dim.z()});
-      AddCuboid(&object, spec, "left", {t / 2, dim.y() / 2 - t / 2, 0}, {dim.x() - t, t, dim.z()});
-      AddCuboid(&object, spec, "right", {t / 2, -dim.y() / 2 + t / 2, 0}, {dim.x() - t, t, dim.z()});
-      AddCuboid(&object, spec, "top", {t / 2, 0, dim.z() / 2 - t / 2}, {dim.x() - t, dim.y() - 2 * t, t});
+      AddCuboid(&object, spec, "back", Offset({-dim.x() / 2 + t / 2, 0, 0}), {t, dim.y(), dim.z()});
+      AddCuboid(&object, spec, "left", Offset({t / 2, dim.y() / 2 - t / 2, 0}), {dim.x() - t, t, dim.z()});
+      AddCuboid(&object, spec, "right", Offset({t / 2, -dim.y() / 2 + t / 2, 0}), {dim.x() - t, t, dim.z()});
+      AddCuboid(&object, spec, "top", Offset({t / 2, 0, dim.z() / 2 - t / 2}), {dim.x() - t, dim.y() - 2 * t, t});
     } else {
       ThrowInputError(file_, line, where + ".type: unknown object type '" + spec.type +
-                                       "' (known: box, locker, open_locker)");
+                                       "' (known: box, locker, open_locker, furniture)");
     }
     scene_->objects.push_back(std::move(object));
   }
@@ -185,6 +216,44 @@ class SceneBuilder {
   void AddMarker(const MarkerSpec& spec, int line, const std::string& where);
 
  private:
+  // Furniture: boxes placed in the object frame; its dimensions are their bounding box there.
+  void AddFurniture(const ObjectSpec& spec, int line, const std::string& where) {
+    if (spec.parts.empty()) ThrowInputError(file_, line, where + ": furniture needs 'parts'");
+    if (!spec.dimensions.empty()) {
+      ThrowInputError(file_, line, where + ": furniture takes its dimensions from its parts; remove 'dimensions'");
+    }
+    SceneObject object;
+    object.name = spec.name;
+    object.type = spec.type;
+    object.T_world_object = MakePoseRpy(spec.rpy_deg[0] * kDegToRad, spec.rpy_deg[1] * kDegToRad,
+                                        spec.rpy_deg[2] * kDegToRad, Vec3(spec.position));
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(1e30), high = -low;
+    std::set<std::string> part_names;
+    for (size_t i = 0; i < spec.parts.size(); ++i) {
+      const PartSpec& part = spec.parts[i];
+      const std::string part_where = where + ".parts[" + std::to_string(i) + "]";
+      RequireSize(part.position, 3, part_where + ".position", line);
+      RequireSize(part.rpy_deg, 3, part_where + ".rpy_deg", line);
+      RequireSize(part.dimensions, 3, part_where + ".dimensions", line);
+      if (!part.color.empty()) RequireSize(part.color, 3, part_where + ".color", line);
+      const std::string name = part.name.empty() ? "part" + std::to_string(i) : part.name;
+      if (!part_names.insert(name).second) ThrowInputError(file_, line, part_where + ": duplicate part name '" + name + "'");
+      const Pose3 T_object_part = MakePoseRpy(part.rpy_deg[0] * kDegToRad, part.rpy_deg[1] * kDegToRad,
+                                              part.rpy_deg[2] * kDegToRad, Vec3(part.position));
+      ObjectSpec colours = spec;
+      if (!part.color.empty()) colours.color = part.color;
+      AddCuboid(&object, colours, name, T_object_part, Vec3(part.dimensions));
+      for (int c = 0; c < 8; ++c) {
+        const Eigen::Vector3d corner((c & 1) ? 0.5 : -0.5, (c & 2) ? 0.5 : -0.5, (c & 4) ? 0.5 : -0.5);
+        const Eigen::Vector3d p = T_object_part * corner.cwiseProduct(Vec3(part.dimensions));
+        low = low.cwiseMin(p);
+        high = high.cwiseMax(p);
+      }
+    }
+    object.dimensions = high - low;
+    scene_->objects.push_back(std::move(object));
+  }
+
   void RequireSize(const std::vector<double>& v, size_t n, const std::string& key, int line) const {
     if (v.size() != n) {
       ThrowInputError(file_, line, key + " needs " + std::to_string(n) + " numbers, got " + std::to_string(v.size()));
@@ -201,9 +270,9 @@ class SceneBuilder {
   }
 
   void AddCuboid(SceneObject* object, const ObjectSpec& spec, const std::string& part,
-                 const Eigen::Vector3d& center_in_object, const Eigen::Vector3d& dims) {
+                 const Pose3& T_object_box, const Eigen::Vector3d& dims) {
     Cuboid cuboid;
-    cuboid.T_world_box = object->T_world_object * Eigen::Translation3d(center_in_object);
+    cuboid.T_world_box = object->T_world_object * T_object_box;
     cuboid.dimensions = dims;
     const Eigen::Matrix3d R = cuboid.T_world_box.linear();
     for (int f = 0; f < 6; ++f) {

@@ -10,8 +10,8 @@
 //
 // and that single list drives reading (unknown keys, wrong types, NaN and out-of-range values are
 // errors naming the file, line and key), writing and validation of structs built in code.
-// Supported field types: double, int, bool, std::string, std::vector<double>, and nested structs
-// that have VisitFields themselves.
+// Supported field types: double, int, bool, std::string, std::vector<double>, nested structs
+// that have VisitFields themselves, and std::vector of such structs (a YAML list of maps).
 #include <cmath>
 #include <string>
 #include <type_traits>
@@ -45,6 +45,11 @@ struct IsConfigStruct<T, std::void_t<decltype(std::declval<T&>().VisitFields(
 std::string CheckValue(double value, Check check);
 int LineOf(const YAML::Node& node);
 
+template <typename T>
+struct IsStructList : std::false_type {};
+template <typename T>
+struct IsStructList<std::vector<T>> : IsConfigStruct<T> {};
+
 }  // namespace config_detail
 
 // Reads one YAML map into a config struct; keys left out keep their defaults.
@@ -63,6 +68,17 @@ class ConfigReader {
       ConfigReader child(node, file_, prefix_ + key + ".");
       value.VisitFields(child);
       child.RejectUnknownKeys();
+    } else if constexpr (config_detail::IsStructList<T>::value) {
+      if (!node.IsSequence()) Fail(node, key, "expects a list of maps");
+      T items;
+      for (size_t i = 0; i < node.size(); ++i) {
+        if (!node[i].IsMap()) Fail(node[i], key, "expects a list of maps");
+        ConfigReader child(node[i], file_, prefix_ + key + "[" + std::to_string(i) + "].");
+        items.emplace_back();
+        items.back().VisitFields(child);
+        child.RejectUnknownKeys();
+      }
+      value = std::move(items);
     } else {
       ReadScalar(node, key, &value, check);
     }
@@ -103,6 +119,14 @@ class ConfigWriter {
       T copy = value;
       copy.VisitFields(child);
       node_[key] = child.node();
+    } else if constexpr (config_detail::IsStructList<T>::value) {
+      YAML::Node list(YAML::NodeType::Sequence);
+      for (const auto& item : value) {
+        ConfigWriter child;
+        child("item", item);
+        list.push_back(child.node()["item"]);
+      }
+      node_[key] = list;
     } else {
       node_[key] = value;
     }
@@ -124,6 +148,12 @@ class ConfigValidator {
       ConfigValidator child(prefix_ + key + ".");
       T copy = value;
       copy.VisitFields(child);
+    } else if constexpr (config_detail::IsStructList<T>::value) {
+      for (size_t i = 0; i < value.size(); ++i) {
+        ConfigValidator child(prefix_ + key + "[" + std::to_string(i) + "].");
+        auto copy = value[i];
+        copy.VisitFields(child);
+      }
     } else if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
       Report(key, config_detail::CheckValue(static_cast<double>(value), check));
     } else if constexpr (std::is_same_v<T, std::vector<double>>) {

@@ -41,8 +41,9 @@ struct Cuboid {
 
 struct SceneObject {
   std::string name;
-  std::string type;                     // "box", "locker" or "open_locker"
-  Pose3 T_world_object = Pose3::Identity();  // centre of the bounding box, x = front normal
+  std::string type;                     // "box", "locker", "open_locker" or "furniture"
+  // Centre of the bounding box, x = front normal; for furniture, the frame its parts are placed in.
+  Pose3 T_world_object = Pose3::Identity();
   Eigen::Vector3d dimensions = Eigen::Vector3d::Ones();  // bounding box along object x, y, z [m]
   std::vector<size_t> cuboids;          // indices into Scene::cuboids
 };
