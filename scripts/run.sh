@@ -6,5 +6,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-bash scripts/build.sh build
+PLANEMAP_TARGET=planemap bash scripts/build.sh build
 ./build/apps/planemap render --out out/default_walk "$@"

@@ -133,8 +133,12 @@ TEST(Scene, FurnitureIsBuiltFromItsPartsInItsOwnFrame) {
   }
   // Per-face colours of the box.
   for (const Surface& s : scene.surfaces) {
-    if (s.object == "box" && s.face == "+x") EXPECT_EQ(s.color, (Rgb8{200, 60, 50}));
-    if (s.object == "box" && s.face == "-z") EXPECT_EQ(s.color, (Rgb8{120, 120, 120}));
+    if (s.object == "box" && s.face == "+x") {
+      EXPECT_EQ(s.color, (Rgb8{200, 60, 50}));
+    }
+    if (s.object == "box" && s.face == "-z") {
+      EXPECT_EQ(s.color, (Rgb8{120, 120, 120}));
+    }
   }
 }
 

@@ -211,7 +211,9 @@ TEST(SensorNoise, MotionBlurVoidsReadingsAcrossMovingEdgesAndBlendsColour) {
   EXPECT_GT(blended, 2000u);
   // Where depth survives, it is the depth at the frame's pose.
   for (size_t i = 0; i < sharp.depth.size(); ++i) {
-    if (IsValidDepth(blurred.depth.pixels()[i])) ASSERT_EQ(blurred.depth.pixels()[i], sharp.depth.pixels()[i]);
+    if (IsValidDepth(blurred.depth.pixels()[i])) {
+      ASSERT_EQ(blurred.depth.pixels()[i], sharp.depth.pixels()[i]);
+    }
   }
 }
 
