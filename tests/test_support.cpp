@@ -1,6 +1,7 @@
 #include "test_support.h"
 
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -12,7 +13,11 @@ namespace fs = std::filesystem;
 namespace planemap::testing {
 
 std::string SourcePath(const std::string& relative) { return std::string(PLANEMAP_SOURCE_DIR) + "/" + relative; }
-std::string SharedPath(const std::string& relative) { return std::string(PLANEMAP_SHARED_DIR) + "/" + relative; }
+std::string SharedPath(const std::string& relative) {
+  // ../shared beside the repository root, or wherever PLANEMAP_SHARED_DIR points.
+  const char* override_dir = std::getenv("PLANEMAP_SHARED_DIR");
+  return std::string(override_dir != nullptr ? override_dir : PLANEMAP_SHARED_DIR) + "/" + relative;
+}
 
 TempDir::TempDir() {
   static std::atomic<int> counter{0};

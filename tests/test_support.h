@@ -11,7 +11,8 @@ namespace planemap::testing {
 
 // A path inside the source tree, e.g. SourcePath("configs/scenes/default.yaml").
 std::string SourcePath(const std::string& relative);
-// A path inside ../shared (the real data sets), e.g. SharedPath("data/tum_frame_pairs").
+// A path inside ../shared (the real data sets), e.g. SharedPath("data/tum_frame_pairs");
+// the environment variable PLANEMAP_SHARED_DIR overrides where shared/ is.
 std::string SharedPath(const std::string& relative);
 
 // A fresh, empty folder under the system temp dir, removed when the object dies.
