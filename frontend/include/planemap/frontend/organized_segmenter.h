@@ -1,0 +1,17 @@
+#pragma once
+#include "planemap/frontend/plane_segmenter.h"
+
+namespace planemap {
+
+// Cell-wise plane fits merged by region growing on the image grid (in the spirit of fast
+// organized extractors such as PEAC and CAPE), then pixel assignment and a least-squares refit.
+class OrganizedSegmenter : public PlaneSegmenter {
+ public:
+  explicit OrganizedSegmenter(const SegmenterConfig& config) : config_(config) {}
+  SegmentationResult Segment(const Cloud& cloud) const override;
+
+ private:
+  SegmenterConfig config_;
+};
+
+}  // namespace planemap

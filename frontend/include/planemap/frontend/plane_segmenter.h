@@ -1,0 +1,107 @@
+#pragma once
+// Step 2 of the frontend: planes of one organized cloud, behind one interface.
+//   organized (default): cell-wise plane fits on the image grid merged by region growing, pixels
+//                        assigned to the grown planes, then a least-squares refit on the inliers;
+//   msac: the paper's reference, PCL's M-estimator sample consensus extracting planes one after
+//         another, each split into its connected parts on the image grid.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "planemap/core/config.h"
+#include "planemap/core/detected_plane.h"
+#include "planemap/frontend/organized_cloud.h"
+
+namespace planemap {
+
+struct OrganizedSegmenterConfig {
+  int cell_size = 10;                          // side of the grid cells fitted first [px]
+  double min_cell_valid_fraction = 0.8;        // cells with fewer valid pixels are skipped
+  double cell_jump_relative = 0.04;            // a cell with neighbouring depths differing more than
+                                               // this fraction of the depth is not planar
+  double cell_max_rms_base = 0.002;            // a cell is planar if its fit RMS is below
+  double cell_max_rms_quadratic = 0.004;       //   base + quadratic * z^2 [m, 1/m]
+  double grow_max_angle_deg = 15.0;            // a cell joins a region if its normal is this close [deg]
+  double grow_max_distance_base = 0.01;        // ... and its centroid this close to the region's
+  double grow_max_distance_quadratic = 0.006;  //     plane: base + quadratic * z^2 [m, 1/m]
+  int min_region_cells = 4;                    // smaller regions are dropped [cells]
+  double merge_max_angle_deg = 5.0;            // adjacent regions this close in normal ... [deg]
+  double inlier_distance_base = 0.005;         // a pixel is an inlier if |n.p + d| is below
+  double inlier_distance_quadratic = 0.005;    //   base + quadratic * z^2 [m, 1/m]
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("cell_size", cell_size, Check::kPositive);
+    v("min_cell_valid_fraction", min_cell_valid_fraction, Check::kProbability);
+    v("cell_jump_relative", cell_jump_relative, Check::kPositive);
+    v("cell_max_rms_base", cell_max_rms_base, Check::kPositive);
+    v("cell_max_rms_quadratic", cell_max_rms_quadratic, Check::kNonNegative);
+    v("grow_max_angle_deg", grow_max_angle_deg, Check::kPositive);
+    v("grow_max_distance_base", grow_max_distance_base, Check::kPositive);
+    v("grow_max_distance_quadratic", grow_max_distance_quadratic, Check::kNonNegative);
+    v("min_region_cells", min_region_cells, Check::kPositive);
+    v("merge_max_angle_deg", merge_max_angle_deg, Check::kNonNegative);
+    v("inlier_distance_base", inlier_distance_base, Check::kPositive);
+    v("inlier_distance_quadratic", inlier_distance_quadratic, Check::kNonNegative);
+  }
+};
+
+struct MsacSegmenterConfig {
+  double distance_threshold = 0.02;  // inlier distance of the sample consensus [m]
+  int max_iterations = 200;          // hypotheses per extracted plane
+  int max_planes = 20;               // extraction stops after this many
+  double probability = 0.99;         // confidence that a good sample is drawn
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("distance_threshold", distance_threshold, Check::kPositive);
+    v("max_iterations", max_iterations, Check::kPositive);
+    v("max_planes", max_planes, Check::kPositive);
+    v("probability", probability, Check::kProbability);
+  }
+};
+
+struct SegmenterConfig {
+  std::string method = "organized";  // organized | msac
+  int min_inliers = 400;             // planes with fewer inlier pixels are dropped [px]
+  double max_view_angle_deg = 85.0;  // planes seen more edge-on at their centroid are dropped:
+                                     // a plane through the camera holds whole pixel strips of
+                                     // unrelated points [deg]
+  OrganizedSegmenterConfig organized;
+  MsacSegmenterConfig msac;
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("method", method);
+    v("min_inliers", min_inliers, Check::kPositive);
+    v("max_view_angle_deg", max_view_angle_deg, Check::kPositive);
+    v("organized", organized);
+    v("msac", msac);
+  }
+};
+
+struct SegmentationResult {
+  std::vector<DetectedPlane> planes;  // by decreasing inlier count; planes[i].id == i
+  int valid_points = 0;
+  std::string reason;                 // why no plane was found; empty otherwise
+};
+
+class PlaneSegmenter {
+ public:
+  virtual ~PlaneSegmenter() = default;
+  virtual SegmentationResult Segment(const Cloud& cloud) const = 0;
+};
+
+// Throws std::invalid_argument for an unknown method or out-of-range settings.
+std::unique_ptr<PlaneSegmenter> MakePlaneSegmenter(const SegmenterConfig& config);
+
+// Drops planes seen edge-on (config.max_view_angle_deg), orders the rest by decreasing inlier
+// count, numbers them, and sets the reason when there is none.
+SegmentationResult FinishSegmentation(std::vector<DetectedPlane> planes, int valid_points,
+                                      const SegmenterConfig& config);
+
+// Refits a plane by least squares on the given pixels of the cloud, each weighted by the inverse
+// of its depth noise variance (DepthNoiseWeight).
+DetectedPlane FitDetectedPlane(const Cloud& cloud, std::vector<int> inliers);
+
+}  // namespace planemap

@@ -1,0 +1,238 @@
+#include "planemap/frontend/organized_segmenter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+
+#include <Eigen/Eigenvalues>
+
+namespace planemap {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+double GrowsWithDepth(double base, double quadratic, double z) { return base + quadratic * z * z; }
+
+// A plane fitted to moments, oriented toward the camera; fast closed-form eigen solve.
+struct QuickFit {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double offset = 0.0;
+  double mse = 0.0;  // mean squared distance to the plane [m^2]
+};
+
+QuickFit Fit(const PointMoments& m) {
+  QuickFit f;
+  f.centroid = m.Mean();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(m.Covariance());
+  f.normal = eig.eigenvectors().col(0);
+  f.mse = std::max(eig.eigenvalues()(0), 0.0);
+  if (f.normal.dot(f.centroid) > 0.0) f.normal = -f.normal;
+  f.offset = -f.normal.dot(f.centroid);
+  return f;
+}
+
+struct Cell {
+  PointMoments moments;
+  QuickFit fit;
+  bool planar = false;
+  int region = -1;
+};
+
+struct Region {
+  PointMoments moments;
+  QuickFit fit;
+  int cells = 0;
+};
+
+int Find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
+  const OrganizedSegmenterConfig& c = config_.organized;
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height), cs = c.cell_size;
+  const int cw = (w + cs - 1) / cs, ch = (h + cs - 1) / cs;
+  auto point = [&](int u, int v) { return cloud.points[static_cast<size_t>(v) * w + u]; };
+
+  // 1. Fit a plane to every cell that is full enough and free of depth jumps.
+  std::vector<Cell> cells(static_cast<size_t>(cw) * ch);
+  int valid_points = 0;
+  for (int cy = 0; cy < ch; ++cy) {
+    for (int cx = 0; cx < cw; ++cx) {
+      Cell& cell = cells[static_cast<size_t>(cy) * cw + cx];
+      const int u0 = cx * cs, v0 = cy * cs, u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
+      bool jump = false;
+      for (int v = v0; v < v1; ++v) {
+        for (int u = u0; u < u1; ++u) {
+          const auto& p = point(u, v);
+          if (!IsValidPoint(p)) continue;
+          cell.moments.Add(Eigen::Vector3d(p.x, p.y, p.z));
+          const float limit = static_cast<float>(c.cell_jump_relative) * p.z;
+          if (u + 1 < u1 && IsValidPoint(point(u + 1, v)) && std::abs(point(u + 1, v).z - p.z) > limit) jump = true;
+          if (v + 1 < v1 && IsValidPoint(point(u, v + 1)) && std::abs(point(u, v + 1).z - p.z) > limit) jump = true;
+        }
+      }
+      valid_points += static_cast<int>(cell.moments.n);
+      if (jump || cell.moments.n < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0) || cell.moments.n < 3) continue;
+      cell.fit = Fit(cell.moments);
+      const double z = cell.fit.centroid.z();
+      cell.planar = std::sqrt(cell.fit.mse) < GrowsWithDepth(c.cell_max_rms_base, c.cell_max_rms_quadratic, z);
+    }
+  }
+
+  // 2. Grow regions from the flattest cells: a neighbour joins when its normal and centroid
+  //    agree with the region's plane, refitted as it grows.
+  std::vector<int> order;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (cells[i].planar) order.push_back(static_cast<int>(i));
+  }
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cells[a].fit.mse < cells[b].fit.mse; });
+  const double cos_grow = std::cos(c.grow_max_angle_deg * kDegToRad);
+  std::vector<Region> regions;
+  std::vector<int> members;
+  for (int seed : order) {
+    if (cells[seed].region >= 0) continue;
+    const int id = static_cast<int>(regions.size());
+    Region region{cells[seed].moments, cells[seed].fit, 1};
+    cells[seed].region = id;
+    members.assign(1, seed);
+    std::queue<int> queue;
+    queue.push(seed);
+    while (!queue.empty()) {
+      const int i = queue.front();
+      queue.pop();
+      const int cx = i % cw, cy = i / cw;
+      const int neighbours[4][2] = {{cx + 1, cy}, {cx - 1, cy}, {cx, cy + 1}, {cx, cy - 1}};
+      for (const auto& nb : neighbours) {
+        if (nb[0] < 0 || nb[0] >= cw || nb[1] < 0 || nb[1] >= ch) continue;
+        const int j = nb[1] * cw + nb[0];
+        Cell& cell = cells[j];
+        if (!cell.planar || cell.region >= 0) continue;
+        if (cell.fit.normal.dot(region.fit.normal) < cos_grow) continue;
+        const double distance = std::abs(region.fit.normal.dot(cell.fit.centroid) + region.fit.offset);
+        const double z = cell.fit.centroid.z();
+        if (distance > GrowsWithDepth(c.grow_max_distance_base, c.grow_max_distance_quadratic, z)) continue;
+        cell.region = id;
+        members.push_back(j);
+        region.moments += cell.moments;
+        region.fit = Fit(region.moments);
+        ++region.cells;
+        queue.push(j);
+      }
+    }
+    if (region.cells < c.min_region_cells) {
+      for (int i : members) cells[i].region = -2;  // too small: never a seed again, never joined
+      continue;
+    }
+    regions.push_back(region);
+  }
+
+  // 3. Merge adjacent regions that lie in one plane (growing can split a plane at a noisy cell).
+  std::vector<int> parent(regions.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const double cos_merge = std::cos(c.merge_max_angle_deg * kDegToRad);
+  auto coplanar = [&](const Region& a, const Region& b) {
+    if (a.fit.normal.dot(b.fit.normal) < cos_merge) return false;
+    const double za = a.fit.centroid.z(), zb = b.fit.centroid.z();
+    return std::abs(a.fit.normal.dot(b.fit.centroid) + a.fit.offset) <
+               GrowsWithDepth(c.grow_max_distance_base, c.grow_max_distance_quadratic, zb) &&
+           std::abs(b.fit.normal.dot(a.fit.centroid) + b.fit.offset) <
+               GrowsWithDepth(c.grow_max_distance_base, c.grow_max_distance_quadratic, za);
+  };
+  for (int cy = 0; cy < ch; ++cy) {
+    for (int cx = 0; cx < cw; ++cx) {
+      const int a = cells[cy * cw + cx].region;
+      if (a < 0) continue;
+      for (const int j : {cx + 1 < cw ? cy * cw + cx + 1 : -1, cy + 1 < ch ? (cy + 1) * cw + cx : -1}) {
+        if (j < 0 || cells[j].region < 0) continue;
+        const int ra = Find(parent, a), rb = Find(parent, cells[j].region);
+        if (ra != rb && coplanar(regions[ra], regions[rb])) parent[std::max(ra, rb)] = std::min(ra, rb);
+      }
+    }
+  }
+  std::vector<int> root_index(regions.size(), -1);
+  std::vector<Region> merged;
+  for (size_t r = 0; r < regions.size(); ++r) {
+    const int root = Find(parent, static_cast<int>(r));
+    if (root_index[root] < 0) {
+      root_index[root] = static_cast<int>(merged.size());
+      merged.push_back(Region{});
+    }
+    merged[root_index[root]].moments += regions[r].moments;
+  }
+  for (Region& r : merged) r.fit = Fit(r.moments);
+  for (Cell& cell : cells) cell.region = cell.region >= 0 ? root_index[Find(parent, cell.region)] : -1;
+
+  // 4. Assign every valid pixel to the nearest plane among those of its cell and the 8 cells
+  //    around it, if it is close enough: this takes back the pixels of edge and corner cells.
+  //    A pixel close enough to two planes (near their intersection, where the noise decides
+  //    which is nearer) stays an inlier of the nearer one but does not pull on its refit.
+  std::vector<std::vector<int>> inliers(merged.size());
+  std::vector<PointMoments> fit_moments(merged.size());
+  for (int cy = 0; cy < ch; ++cy) {
+    for (int cx = 0; cx < cw; ++cx) {
+      int candidates[9];
+      int count = 0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = cx + dx, y = cy + dy;
+          if (x < 0 || x >= cw || y < 0 || y >= ch) continue;
+          const int r = cells[y * cw + x].region;
+          if (r >= 0 && std::find(candidates, candidates + count, r) == candidates + count) candidates[count++] = r;
+        }
+      }
+      if (count == 0) continue;
+      const int u0 = cx * cs, v0 = cy * cs, u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
+      for (int v = v0; v < v1; ++v) {
+        for (int u = u0; u < u1; ++u) {
+          const auto& p = point(u, v);
+          if (!IsValidPoint(p)) continue;
+          const Eigen::Vector3d x(p.x, p.y, p.z);
+          const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, p.z);
+          double best = limit;
+          int best_region = -1, close_planes = 0;
+          for (int k = 0; k < count; ++k) {
+            const QuickFit& f = merged[candidates[k]].fit;
+            const double distance = std::abs(f.normal.dot(x) + f.offset);
+            if (distance < limit) ++close_planes;
+            if (distance < best) {
+              best = distance;
+              best_region = candidates[k];
+            }
+          }
+          if (best_region < 0) continue;
+          inliers[best_region].push_back(v * w + u);
+          if (close_planes == 1) fit_moments[best_region].Add(x, DepthNoiseWeight(p.z));
+        }
+      }
+    }
+  }
+
+  // 5. Least-squares refit on each plane's unambiguous inliers.
+  std::vector<DetectedPlane> planes;
+  for (size_t r = 0; r < inliers.size(); ++r) {
+    if (static_cast<int>(inliers[r].size()) < config_.min_inliers) continue;
+    std::sort(inliers[r].begin(), inliers[r].end());
+    const PlaneFit fit = FitPlane(fit_moments[r]);
+    if (!fit.ok || fit_moments[r].n < 0.5 * inliers[r].size()) {
+      planes.push_back(FitDetectedPlane(cloud, std::move(inliers[r])));
+      continue;
+    }
+    DetectedPlane plane;
+    plane.plane = fit.plane;
+    plane.centroid = fit.centroid;
+    plane.covariance = fit.covariance;
+    plane.rms = fit.rms;
+    plane.inliers = std::move(inliers[r]);
+    planes.push_back(std::move(plane));
+  }
+  return FinishSegmentation(std::move(planes), valid_points, config_);
+}
+
+}  // namespace planemap

@@ -1,0 +1,62 @@
+#include "sim_views.h"
+
+#include <cmath>
+
+#include "test_support.h"
+
+namespace planemap::testing {
+
+Pose3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (target - eye).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  Pose3 T = Pose3::Identity();
+  T.linear() << x, z.cross(x), z;
+  T.translation() = eye;
+  return T;
+}
+
+const sim::Scene& DefaultScene() {
+  static const sim::Scene scene = sim::LoadScene(SourcePath("configs/scenes/default.yaml"));
+  return scene;
+}
+
+const CameraIntrinsics& XtionCamera() {
+  static const CameraIntrinsics camera = LoadCameraIntrinsics(SourcePath("configs/cameras/xtion_nao.yaml"));
+  return camera;
+}
+
+std::vector<Pose3> BoxViewpoints() {
+  const sim::SceneObject& box = DefaultScene().object("box");
+  const Eigen::Vector3d center = box.T_world_object.translation();
+  // The box's +x and -y faces both face bearing yaw - 45 deg from its centre.
+  const Eigen::Vector3d x_axis = box.T_world_object.linear().col(0);
+  const double diagonal = std::atan2(x_axis.y(), x_axis.x()) - M_PI / 4;
+  std::vector<Pose3> poses;
+  for (double distance : {1.0, 1.5, 2.0, 2.5, 3.0}) {
+    for (double offset_deg : {-25.0, 0.0, 25.0}) {
+      for (double height : {0.6, 1.0}) {
+        const double b = diagonal + offset_deg * M_PI / 180.0;
+        const Eigen::Vector3d eye = center + Eigen::Vector3d(distance * std::cos(b), distance * std::sin(b), 0.0);
+        poses.push_back(LookAt(Eigen::Vector3d(eye.x(), eye.y(), height), center));
+      }
+    }
+  }
+  return poses;
+}
+
+SimFrame RenderDefaultScene(const Pose3& T_world_camera, std::uint64_t seed, bool noise) {
+  sim::RenderConfig config;
+  config.add_noise = noise;
+  const sim::VirtualCamera camera(DefaultScene(), XtionCamera(), config);
+  sim::RenderedFrame rendered = camera.Render(T_world_camera, seed);
+  SimFrame sim;
+  sim.frame.depth = std::move(rendered.depth);
+  sim.frame.color = std::move(rendered.color);
+  sim.frame.T_world_camera = T_world_camera;
+  sim.labels = std::move(rendered.labels);
+  const Pose3 T_camera_world = T_world_camera.inverse();
+  for (const sim::Surface& s : DefaultScene().surfaces) sim.planes_camera[s.label] = TransformPlane(T_camera_world, s.plane_world);
+  return sim;
+}
+
+}  // namespace planemap::testing

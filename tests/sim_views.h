@@ -1,0 +1,33 @@
+#pragma once
+// Simulated frames for frontend tests: viewpoints of the default scene and rendered frames with
+// the true plane of every label in the camera frame.
+#include <map>
+#include <vector>
+
+#include "planemap/core/intrinsics.h"
+#include "planemap/core/rgbd_frame.h"
+#include "planemap/sim/scene.h"
+#include "planemap/sim/virtual_camera.h"
+
+namespace planemap::testing {
+
+// A camera at `eye` looking at `target`, world z up.
+Pose3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+
+// 30 viewpoints of the default scene's box at 1-3 m (5 distances x 3 bearings x 2 heights) from
+// which it shows three faces: two sides and its top.
+std::vector<Pose3> BoxViewpoints();
+
+struct SimFrame {
+  RgbdFrame frame;
+  LabelImage labels;
+  std::map<std::uint16_t, Plane> planes_camera;  // every surface's plane in the camera frame
+};
+
+// Renders the default scene from `T_world_camera` with the full noise model (seeded).
+SimFrame RenderDefaultScene(const Pose3& T_world_camera, std::uint64_t seed, bool noise = true);
+
+const sim::Scene& DefaultScene();
+const CameraIntrinsics& XtionCamera();
+
+}  // namespace planemap::testing
