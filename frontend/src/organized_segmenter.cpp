@@ -1,6 +1,7 @@
 #include "planemap/frontend/organized_segmenter.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <queue>
@@ -68,16 +69,24 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
       Cell& cell = cells[static_cast<size_t>(cy) * cw + cx];
       const int u0 = cx * cs, v0 = cy * cs, u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
       bool jump = false;
+      // Plain sums of the cell's points (the hot loop of the segmenter), then moments.
+      double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
       for (int v = v0; v < v1; ++v) {
         for (int u = u0; u < u1; ++u) {
           const auto& p = point(u, v);
           if (!IsValidPoint(p)) continue;
-          cell.moments.Add(Eigen::Vector3d(p.x, p.y, p.z));
+          const double x = p.x, y = p.y, z = p.z;
+          n += 1;
+          sx += x; sy += y; sz += z;
+          sxx += x * x; sxy += x * y; sxz += x * z; syy += y * y; syz += y * z; szz += z * z;
           const float limit = static_cast<float>(c.cell_jump_relative) * p.z;
           if (u + 1 < u1 && IsValidPoint(point(u + 1, v)) && std::abs(point(u + 1, v).z - p.z) > limit) jump = true;
           if (v + 1 < v1 && IsValidPoint(point(u, v + 1)) && std::abs(point(u, v + 1).z - p.z) > limit) jump = true;
         }
       }
+      cell.moments.n = cell.moments.w = n;
+      cell.moments.sum = Eigen::Vector3d(sx, sy, sz);
+      cell.moments.sum_outer << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
       valid_points += static_cast<int>(cell.moments.n);
       if (jump || cell.moments.n < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0) || cell.moments.n < 3) continue;
       cell.fit = Fit(cell.moments);
@@ -93,7 +102,6 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     if (cells[i].planar) order.push_back(static_cast<int>(i));
   }
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cells[a].fit.mse < cells[b].fit.mse; });
-  const double cos_grow = std::cos(c.grow_max_angle_deg * kDegToRad);
   std::vector<Region> regions;
   std::vector<int> members;
   for (int seed : order) {
@@ -114,9 +122,10 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
         const int j = nb[1] * cw + nb[0];
         Cell& cell = cells[j];
         if (!cell.planar || cell.region >= 0) continue;
-        if (cell.fit.normal.dot(region.fit.normal) < cos_grow) continue;
-        const double distance = std::abs(region.fit.normal.dot(cell.fit.centroid) + region.fit.offset);
         const double z = cell.fit.centroid.z();
+        const double max_angle = (c.grow_max_angle_deg + c.grow_max_angle_deg_per_m * z) * kDegToRad;
+        if (cell.fit.normal.dot(region.fit.normal) < std::cos(max_angle)) continue;
+        const double distance = std::abs(region.fit.normal.dot(cell.fit.centroid) + region.fit.offset);
         if (distance > GrowsWithDepth(c.grow_max_distance_base, c.grow_max_distance_quadratic, z)) continue;
         cell.region = id;
         members.push_back(j);
@@ -171,54 +180,72 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
 
   // 4. Assign every valid pixel to the nearest plane among those of its cell and the 8 cells
   //    around it, if it is close enough: this takes back the pixels of edge and corner cells.
+  //    Pixels are visited in row order, so each plane's inliers come out sorted.
   //    A pixel close enough to two planes (near their intersection, where the noise decides
   //    which is nearer) stays an inlier of the nearer one but does not pull on its refit.
   std::vector<std::vector<int>> inliers(merged.size());
-  std::vector<PointMoments> fit_moments(merged.size());
+  std::vector<std::array<double, 10>> sums(merged.size());  // weighted w, x, y, z, xx, xy, xz, yy, yz, zz
+  std::vector<double> fit_count(merged.size(), 0.0);
+  std::vector<std::array<int, 9>> candidates(cells.size());
+  std::vector<int> candidate_count(cells.size(), 0);
   for (int cy = 0; cy < ch; ++cy) {
     for (int cx = 0; cx < cw; ++cx) {
-      int candidates[9];
-      int count = 0;
+      const int i = cy * cw + cx;
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           const int x = cx + dx, y = cy + dy;
           if (x < 0 || x >= cw || y < 0 || y >= ch) continue;
           const int r = cells[y * cw + x].region;
-          if (r >= 0 && std::find(candidates, candidates + count, r) == candidates + count) candidates[count++] = r;
-        }
-      }
-      if (count == 0) continue;
-      const int u0 = cx * cs, v0 = cy * cs, u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
-      for (int v = v0; v < v1; ++v) {
-        for (int u = u0; u < u1; ++u) {
-          const auto& p = point(u, v);
-          if (!IsValidPoint(p)) continue;
-          const Eigen::Vector3d x(p.x, p.y, p.z);
-          const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, p.z);
-          double best = limit;
-          int best_region = -1, close_planes = 0;
-          for (int k = 0; k < count; ++k) {
-            const QuickFit& f = merged[candidates[k]].fit;
-            const double distance = std::abs(f.normal.dot(x) + f.offset);
-            if (distance < limit) ++close_planes;
-            if (distance < best) {
-              best = distance;
-              best_region = candidates[k];
-            }
-          }
-          if (best_region < 0) continue;
-          inliers[best_region].push_back(v * w + u);
-          if (close_planes == 1) fit_moments[best_region].Add(x, DepthNoiseWeight(p.z));
+          int* begin = candidates[i].data();
+          int* end = begin + candidate_count[i];
+          if (r >= 0 && std::find(begin, end, r) == end) candidates[i][candidate_count[i]++] = r;
         }
       }
     }
+  }
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const int cell = (v / cs) * cw + u / cs;
+      const int count = candidate_count[cell];
+      if (count == 0) continue;
+      const auto& p = point(u, v);
+      if (!IsValidPoint(p)) continue;
+      const double x = p.x, y = p.y, z = p.z;
+      const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, z);
+      double best = limit;
+      int best_region = -1, close_planes = 0;
+      for (int k = 0; k < count; ++k) {
+        const QuickFit& f = merged[candidates[cell][k]].fit;
+        const double distance = std::abs(f.normal.x() * x + f.normal.y() * y + f.normal.z() * z + f.offset);
+        if (distance < limit) ++close_planes;
+        if (distance < best) {
+          best = distance;
+          best_region = candidates[cell][k];
+        }
+      }
+      if (best_region < 0) continue;
+      inliers[best_region].push_back(v * w + u);
+      if (close_planes > 1) continue;
+      const double wt = DepthNoiseWeight(z);
+      auto& s = sums[best_region];
+      s[0] += wt; s[1] += wt * x; s[2] += wt * y; s[3] += wt * z;
+      s[4] += wt * x * x; s[5] += wt * x * y; s[6] += wt * x * z; s[7] += wt * y * y; s[8] += wt * y * z; s[9] += wt * z * z;
+      fit_count[best_region] += 1;
+    }
+  }
+  std::vector<PointMoments> fit_moments(merged.size());
+  for (size_t r = 0; r < merged.size(); ++r) {
+    const auto& s = sums[r];
+    fit_moments[r].n = fit_count[r];
+    fit_moments[r].w = s[0];
+    fit_moments[r].sum = Eigen::Vector3d(s[1], s[2], s[3]);
+    fit_moments[r].sum_outer << s[4], s[5], s[6], s[5], s[7], s[8], s[6], s[8], s[9];
   }
 
   // 5. Least-squares refit on each plane's unambiguous inliers.
   std::vector<DetectedPlane> planes;
   for (size_t r = 0; r < inliers.size(); ++r) {
     if (static_cast<int>(inliers[r].size()) < config_.min_inliers) continue;
-    std::sort(inliers[r].begin(), inliers[r].end());
     const PlaneFit fit = FitPlane(fit_moments[r]);
     if (!fit.ok || fit_moments[r].n < 0.5 * inliers[r].size()) {
       planes.push_back(FitDetectedPlane(cloud, std::move(inliers[r])));

@@ -15,16 +15,17 @@
 namespace planemap {
 
 struct OrganizedSegmenterConfig {
-  int cell_size = 10;                          // side of the grid cells fitted first [px]
+  int cell_size = 16;                          // side of the grid cells fitted first [px]
   double min_cell_valid_fraction = 0.8;        // cells with fewer valid pixels are skipped
   double cell_jump_relative = 0.04;            // a cell with neighbouring depths differing more than
                                                // this fraction of the depth is not planar
   double cell_max_rms_base = 0.002;            // a cell is planar if its fit RMS is below
   double cell_max_rms_quadratic = 0.004;       //   base + quadratic * z^2 [m, 1/m]
-  double grow_max_angle_deg = 15.0;            // a cell joins a region if its normal is this close [deg]
+  double grow_max_angle_deg = 10.0;            // a cell joins a region if its normal is this close:
+  double grow_max_angle_deg_per_m = 5.0;       //   deg + per_m * z, as cell normals get noisier [deg, deg/m]
   double grow_max_distance_base = 0.01;        // ... and its centroid this close to the region's
   double grow_max_distance_quadratic = 0.006;  //     plane: base + quadratic * z^2 [m, 1/m]
-  int min_region_cells = 4;                    // smaller regions are dropped [cells]
+  int min_region_cells = 3;                    // smaller regions are dropped [cells]
   double merge_max_angle_deg = 5.0;            // adjacent regions this close in normal ... [deg]
   double inlier_distance_base = 0.005;         // a pixel is an inlier if |n.p + d| is below
   double inlier_distance_quadratic = 0.005;    //   base + quadratic * z^2 [m, 1/m]
@@ -37,6 +38,7 @@ struct OrganizedSegmenterConfig {
     v("cell_max_rms_base", cell_max_rms_base, Check::kPositive);
     v("cell_max_rms_quadratic", cell_max_rms_quadratic, Check::kNonNegative);
     v("grow_max_angle_deg", grow_max_angle_deg, Check::kPositive);
+    v("grow_max_angle_deg_per_m", grow_max_angle_deg_per_m, Check::kNonNegative);
     v("grow_max_distance_base", grow_max_distance_base, Check::kPositive);
     v("grow_max_distance_quadratic", grow_max_distance_quadratic, Check::kNonNegative);
     v("min_region_cells", min_region_cells, Check::kPositive);
