@@ -1,0 +1,46 @@
+#pragma once
+// What the frontend sees in one frame, as plain data: planes, their real intersections, the
+// plane graph's trihedral angles (corners). Camera optical frame throughout.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "planemap/core/detected_plane.h"
+
+namespace planemap {
+
+// A real intersection of two planes (paper eqs. 2-6): where their inliers meet.
+struct PlaneEdge {
+  int plane_a = -1, plane_b = -1;  // plane ids, plane_a < plane_b
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();  // segment on the planes' intersection line [m]
+  Eigen::Vector3d end = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit, from start to end
+  double length = 0.0;       // extent of the edge points along the line [m]
+  double length_eq6 = 0.0;   // the paper's eq. (6): sqrt(d_diagonal^2 - 4 d_thresh^2) [m]
+  int points = 0;            // inliers of either plane within d_thresh of both
+  // An end is cut when it lies at the image border or next to pixels without depth: the edge
+  // may go on beyond it, so its length only bounds the true length from below.
+  bool start_cut = false, end_cut = false;
+  bool Complete() const { return !start_cut && !end_cut; }
+};
+
+// A corner: three planes that meet pairwise (a 3-cycle of the plane graph).
+struct TrihedralAngle {
+  std::array<int, 3> planes{};  // plane ids, increasing
+  std::array<int, 3> edges{};   // indices into FrameModel::edges: (p0,p1), (p0,p2), (p1,p2)
+  Eigen::Vector3d corner = Eigen::Vector3d::Zero();  // the point on all three planes [m]
+};
+
+struct FrameModel {
+  std::vector<DetectedPlane> planes;
+  std::vector<PlaneEdge> edges;
+  std::vector<TrihedralAngle> angles;
+  std::string reason;  // why the model is empty or partial; empty when all is well
+
+  // Index into `edges` of the edge between two planes, or -1.
+  int EdgeBetween(int a, int b) const;
+};
+
+}  // namespace planemap

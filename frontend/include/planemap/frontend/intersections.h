@@ -1,0 +1,43 @@
+#pragma once
+// Step 3 of the frontend: real intersections of plane pairs (paper eqs. 2-6).
+#include <vector>
+
+#include "planemap/core/config.h"
+#include "planemap/core/frame_model.h"
+#include "planemap/core/intrinsics.h"
+#include "planemap/frontend/organized_cloud.h"
+
+namespace planemap {
+
+struct IntersectionConfig {
+  double d_thresh = 0.03;          // an edge point lies within this of both planes [m]
+  double d_min = 0.0;              // ... and farther than this from both (the paper's noise guard) [m]
+  int min_points = 40;             // fewer edge points: no real intersection
+  double min_angle_deg = 30.0;     // planes closer to parallel do not intersect [deg]
+  int border_margin = 4;           // an edge end this close to the image border is cut [px]
+  int cut_search = 6;              // an end with no depth within this many pixels beyond it is cut [px]
+  double band_width = 0.09;        // each plane's extent along the edge is measured on its inliers
+                                   // from d_thresh to this far from the other plane [m]
+  double end_trim_fraction = 0.0;  // share of each plane's band points ignored at either end
+  double max_gap = 0.05;           // points further apart along the line split the edge:
+                                   // the longest run counts [m]
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("d_thresh", d_thresh, Check::kPositive);
+    v("d_min", d_min, Check::kNonNegative);
+    v("min_points", min_points, Check::kPositive);
+    v("min_angle_deg", min_angle_deg, Check::kPositive);
+    v("border_margin", border_margin, Check::kNonNegative);
+    v("cut_search", cut_search, Check::kPositive);
+    v("band_width", band_width, Check::kPositive);
+    v("end_trim_fraction", end_trim_fraction, Check::kProbability);
+    v("max_gap", max_gap, Check::kPositive);
+  }
+};
+
+// Every real intersection among `planes` (ids as indices), in the camera frame.
+std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
+                                         const CameraIntrinsics& camera, const IntersectionConfig& config);
+
+}  // namespace planemap

@@ -1,0 +1,233 @@
+#include "planemap/frontend/intersections.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <Eigen/Dense>
+
+namespace planemap {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+Eigen::Vector3d PointAt(const Cloud& cloud, int i) { return {cloud[i].x, cloud[i].y, cloud[i].z}; }
+
+struct Box3 {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e30), high = Eigen::Vector3d::Constant(-1e30);
+  bool Near(const Box3& o, double margin) const {
+    return ((low.array() - margin) <= o.high.array()).all() && ((o.low.array() - margin) <= high.array()).all();
+  }
+};
+
+// Eqs. (2)-(5): inliers of `own` within d_thresh of both planes and farther than d_min from both.
+void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other, const Cloud& cloud,
+                       const IntersectionConfig& c, std::vector<Eigen::Vector3d>* points) {
+  for (int i : own.inliers) {
+    const Eigen::Vector3d p = PointAt(cloud, i);
+    const double d_own = std::abs(own.plane.SignedDistance(p));     // eq. (2) / (4)
+    const double d_other = std::abs(other.plane.SignedDistance(p)); // eq. (3) / (5)
+    if (d_own < c.d_thresh && d_other < c.d_thresh && d_own >= c.d_min && d_other >= c.d_min) points->push_back(p);
+  }
+}
+
+// Inliers of `own` in a band beside the edge zone: from d_thresh to band_width away from `other`.
+// Their extent along the line is the plane's own extent there, untouched by pixels the noise
+// moved between the two planes near the line.
+void CollectBandPoints(const DetectedPlane& own, const DetectedPlane& other, const Cloud& cloud,
+                       const IntersectionConfig& c, std::vector<Eigen::Vector3d>* points) {
+  for (int i : own.inliers) {
+    const Eigen::Vector3d p = PointAt(cloud, i);
+    const double d_other = std::abs(other.plane.SignedDistance(p));
+    if (d_other >= c.d_thresh && d_other < c.band_width) points->push_back(p);
+  }
+}
+
+struct Interval {
+  double low = 0.0, high = 0.0;  // along the line [m]
+  Eigen::Vector3d low_point, high_point;  // the extreme edge points
+  int points = 0;
+};
+
+// Eqs. (2)-(5) hold all along the line where one plane runs on past the other (the floor past a
+// box's face), so the real intersection is where both planes have edge points: the longest
+// stretch of the line, without gaps over max_gap, that both cover.
+std::optional<Interval> SharedSpan(const std::vector<Eigen::Vector3d>& points_a,
+                                   const std::vector<Eigen::Vector3d>& points_b, const Eigen::Vector3d& origin,
+                                   const Eigen::Vector3d& direction, const IntersectionConfig& c) {
+  const double bin = c.max_gap / 2.0;
+  double t_min = 1e30, t_max = -1e30;
+  for (const auto* set : {&points_a, &points_b}) {
+    for (const Eigen::Vector3d& p : *set) {
+      const double t = direction.dot(p - origin);
+      t_min = std::min(t_min, t);
+      t_max = std::max(t_max, t);
+    }
+  }
+  const int bins = static_cast<int>((t_max - t_min) / bin) + 1;
+  std::vector<int> count_a(bins, 0), count_b(bins, 0);
+  auto bin_of = [&](const Eigen::Vector3d& p) { return static_cast<int>((direction.dot(p - origin) - t_min) / bin); };
+  for (const Eigen::Vector3d& p : points_a) ++count_a[bin_of(p)];
+  for (const Eigen::Vector3d& p : points_b) ++count_b[bin_of(p)];
+  // Runs of bins both planes cover, bridging single empty bins (gaps up to max_gap).
+  int best_first = -1, best_last = -1, best_count = 0;
+  for (int i = 0; i < bins;) {
+    if (count_a[i] == 0 || count_b[i] == 0) {
+      ++i;
+      continue;
+    }
+    int last = i, count = 0, j = i;
+    while (j < bins) {
+      if (count_a[j] > 0 && count_b[j] > 0) {
+        last = j;
+        count += count_a[j] + count_b[j];
+        ++j;
+      } else if (j + 1 < bins && count_a[j + 1] > 0 && count_b[j + 1] > 0) {
+        ++j;  // bridge one empty bin
+      } else {
+        break;
+      }
+    }
+    if (count > best_count) {
+      best_count = count;
+      best_first = i;
+      best_last = last;
+    }
+    i = last + 1;
+  }
+  if (best_first < 0) return std::nullopt;
+  // Within the run, the edge spans where both planes' points are: the overlap of their extents,
+  // each taken without its few most extreme points (strays the noise put beyond the end).
+  const double run_low = t_min + best_first * bin, run_high = t_min + (best_last + 1) * bin;
+  auto extent = [&](const std::vector<Eigen::Vector3d>& set, double* low, double* high) {
+    std::vector<double> t;
+    for (const Eigen::Vector3d& p : set) {
+      const double x = direction.dot(p - origin);
+      if (x >= run_low && x <= run_high) t.push_back(x);
+    }
+    if (t.empty()) return false;
+    std::sort(t.begin(), t.end());
+    const size_t trim = std::min(t.size() / 2, static_cast<size_t>(c.end_trim_fraction * t.size()));
+    *low = t[trim];
+    *high = t[t.size() - 1 - trim];
+    return true;
+  };
+  double a_low, a_high, b_low, b_high;
+  if (!extent(points_a, &a_low, &a_high) || !extent(points_b, &b_low, &b_high)) return std::nullopt;
+  Interval span;
+  span.low = std::max(a_low, b_low);
+  span.high = std::min(a_high, b_high);
+  if (span.high <= span.low) return std::nullopt;
+  double lowest = 1e30, highest = -1e30;
+  for (const auto* set : {&points_a, &points_b}) {
+    for (const Eigen::Vector3d& p : *set) {
+      const double t = direction.dot(p - origin);
+      if (t < span.low || t > span.high) continue;
+      ++span.points;
+      if (t < lowest) lowest = t, span.low_point = p;
+      if (t > highest) highest = t, span.high_point = p;
+    }
+  }
+  if (span.points < c.min_points / 2) return std::nullopt;
+  return span;
+}
+
+// Whether the edge goes on beyond `end` (moving along `outward`) but the camera cannot see it:
+// the image ends, depth is missing, or something nearer hides it that is not a plane through the
+// end (the floor under a box's vertical edge ends that edge; a box in front of it hides it).
+bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Cloud& cloud,
+           const std::vector<int>& plane_of_pixel, const std::vector<DetectedPlane>& planes,
+           const CameraIntrinsics& camera, const IntersectionConfig& c) {
+  if (end.z() <= 0.0) return true;
+  const double step = end.z() / camera.fx;  // about one pixel at the end's depth [m]
+  for (int k = 0; k <= c.cut_search; ++k) {
+    const Eigen::Vector3d x = end + (k * step) * outward;
+    if (x.z() <= 0.0) return true;
+    const Eigen::Vector2d uv = camera.Project(x);
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    if (u < c.border_margin || v < c.border_margin || u >= camera.width - c.border_margin ||
+        v >= camera.height - c.border_margin) {
+      return true;
+    }
+    if (k < 2) continue;  // the end pixel itself and its neighbour are on the edge
+    const int i = v * camera.width + u;
+    if (!IsValidPoint(cloud[i])) return true;
+    if (cloud[i].z < x.z() - std::max(0.05, 2.0 * c.d_thresh)) {
+      const int owner = plane_of_pixel[i];
+      const bool ends_here = owner >= 0 && std::abs(planes[owner].plane.SignedDistance(end)) < 2.0 * c.d_thresh;
+      return !ends_here;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
+                                         const CameraIntrinsics& camera, const IntersectionConfig& c) {
+  std::vector<Box3> boxes(planes.size());
+  std::vector<int> plane_of_pixel(cloud.size(), -1);
+  for (size_t k = 0; k < planes.size(); ++k) {
+    for (int i : planes[k].inliers) {
+      const Eigen::Vector3d p = PointAt(cloud, i);
+      boxes[k].low = boxes[k].low.cwiseMin(p);
+      boxes[k].high = boxes[k].high.cwiseMax(p);
+      plane_of_pixel[i] = static_cast<int>(k);
+    }
+  }
+  const double max_cos = std::cos(c.min_angle_deg * kDegToRad);
+  std::vector<PlaneEdge> edges;
+  for (size_t a = 0; a < planes.size(); ++a) {
+    for (size_t b = a + 1; b < planes.size(); ++b) {
+      const Plane& pa = planes[a].plane;
+      const Plane& pb = planes[b].plane;
+      if (std::abs(pa.normal.dot(pb.normal)) > max_cos || !boxes[a].Near(boxes[b], c.d_thresh)) continue;
+      std::vector<Eigen::Vector3d> points_a, points_b, band_a, band_b;
+      CollectEdgePoints(planes[a], planes[b], cloud, c, &points_a);
+      CollectEdgePoints(planes[b], planes[a], cloud, c, &points_b);
+      if (static_cast<int>(points_a.size() + points_b.size()) < c.min_points) continue;
+      CollectBandPoints(planes[a], planes[b], cloud, c, &band_a);
+      CollectBandPoints(planes[b], planes[a], cloud, c, &band_b);
+
+      // The intersection line: direction n_a x n_b through the point nearest the origin.
+      const Eigen::Vector3d direction = pa.normal.cross(pb.normal).normalized();
+      Eigen::Matrix3d A;
+      A << pa.normal.transpose(), pb.normal.transpose(), direction.transpose();
+      const Eigen::Vector3d origin = A.partialPivLu().solve(Eigen::Vector3d(-pa.offset, -pb.offset, 0.0));
+      const std::optional<Interval> band = SharedSpan(band_a, band_b, origin, direction, c);
+      if (!band) continue;
+      // The edge points (eqs. 2-5) within the stretch both planes cover.
+      Interval span = *band;
+      span.points = 0;
+      double lowest = 1e30, highest = -1e30;
+      for (const auto* set : {&points_a, &points_b}) {
+        for (const Eigen::Vector3d& p : *set) {
+          const double t = direction.dot(p - origin);
+          if (t < band->low || t > band->high) continue;
+          ++span.points;
+          if (t < lowest) lowest = t, span.low_point = p;
+          if (t > highest) highest = t, span.high_point = p;
+        }
+      }
+      if (span.points < c.min_points) continue;
+
+      PlaneEdge edge;
+      edge.plane_a = static_cast<int>(a);
+      edge.plane_b = static_cast<int>(b);
+      edge.points = span.points;
+      edge.direction = direction;
+      edge.start = origin + span.low * direction;
+      edge.end = origin + span.high * direction;
+      edge.length = span.high - span.low;
+      // Eq. (6): the two farthest edge points span the diagonal of a cylinder of radius d_thresh.
+      const double diagonal = (span.high_point - span.low_point).norm();
+      edge.length_eq6 = std::sqrt(std::max(0.0, diagonal * diagonal - 4.0 * c.d_thresh * c.d_thresh));
+      edge.start_cut = IsCut(edge.start, -direction, cloud, plane_of_pixel, planes, camera, c);
+      edge.end_cut = IsCut(edge.end, direction, cloud, plane_of_pixel, planes, camera, c);
+      edges.push_back(edge);
+    }
+  }
+  return edges;
+}
+
+}  // namespace planemap

@@ -1,0 +1,147 @@
+// Step 3 of the frontend: real intersections (eqs. 2-6) against the box's true edges.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+#include "planemap/frontend/intersections.h"
+#include "planemap/frontend/plane_evaluation.h"
+#include "planemap/frontend/plane_segmenter.h"
+#include "sim_views.h"
+#include "test_support.h"
+
+namespace planemap {
+namespace {
+
+using testing::XtionCamera;
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// The true edge where two faces of a cuboid meet (face indices in kFaceNames order), in the world.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> TrueEdge(const sim::Cuboid& box, int face_a, int face_b) {
+  const int a = face_a / 2, b = face_b / 2, c = 3 - a - b;
+  const double sa = face_a % 2 == 0 ? 1.0 : -1.0, sb = face_b % 2 == 0 ? 1.0 : -1.0;
+  const Eigen::Vector3d h = box.dimensions / 2;
+  Eigen::Vector3d mid = Eigen::Vector3d::Zero();
+  mid[a] = sa * h[a];
+  mid[b] = sb * h[b];
+  Eigen::Vector3d along = Eigen::Vector3d::Zero();
+  along[c] = h[c];
+  return {box.T_world_box * (mid - along), box.T_world_box * (mid + along)};
+}
+
+struct EdgeFigures {
+  std::vector<double> length_error, length_eq6_error, end_error;
+  int true_edges = 0, found = 0, complete = 0, cut = 0;
+};
+
+// For each viewpoint: segment, intersect, and compare every edge between two box faces or a box
+// face and the floor with the true edge.
+EdgeFigures Evaluate(const std::vector<Pose3>& poses) {
+  const auto segmenter = MakePlaneSegmenter(SegmenterConfig{});
+  const sim::Scene& scene = testing::DefaultScene();
+  const sim::Cuboid& box = scene.cuboids[scene.object("box").cuboids[0]];
+  EdgeFigures f;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const testing::SimFrame sim = testing::RenderDefaultScene(poses[k], 300 + k);
+    const Cloud::Ptr cloud = MakeOrganizedCloud(sim.frame, XtionCamera(), CloudConfig{});
+    const SegmentationResult segmentation = segmenter->Segment(*cloud);
+    std::vector<bool> valid(cloud->size());
+    for (size_t i = 0; i < cloud->size(); ++i) valid[i] = IsValidPoint((*cloud)[i]);
+    const PlaneEvaluation evaluation = EvaluatePlanes(segmentation.planes, sim.labels, valid, sim.planes_camera);
+    std::map<int, int> face_of_plane;  // detected plane -> box face index, or 6 for the floor
+    for (const PlaneMatch& m : evaluation.surfaces) {
+      if (m.plane < 0) continue;
+      const sim::Surface& s = scene.surface(m.label);
+      if (s.object == "floor") face_of_plane[m.plane] = 6;
+      if (s.object != "box") continue;
+      for (int face = 0; face < 6; ++face) {
+        if (box.face_labels[face] == m.label) face_of_plane[m.plane] = face;
+      }
+    }
+    const std::vector<PlaneEdge> edges = FindIntersections(segmentation.planes, *cloud, XtionCamera(), IntersectionConfig{});
+    const Pose3 T_camera_world = poses[k].inverse();
+    // True edges between the visible faces (and the floor, which is the box's -z face plane).
+    std::vector<int> visible;
+    for (const auto& [plane, face] : face_of_plane) visible.push_back(face);
+    for (size_t i = 0; i < visible.size(); ++i) {
+      for (size_t j = i + 1; j < visible.size(); ++j) {
+        const int fa = visible[i] == 6 ? 5 : visible[i], fb = visible[j] == 6 ? 5 : visible[j];
+        if (fa / 2 == fb / 2) continue;  // opposite faces do not meet
+        ++f.true_edges;
+        const auto [p0, p1] = TrueEdge(box, fa, fb);
+        const Eigen::Vector3d t0 = T_camera_world * p0, t1 = T_camera_world * p1;
+        for (const PlaneEdge& e : edges) {
+          const auto ia = face_of_plane.find(e.plane_a), ib = face_of_plane.find(e.plane_b);
+          if (ia == face_of_plane.end() || ib == face_of_plane.end()) continue;
+          if (!((ia->second == visible[i] && ib->second == visible[j]) || (ia->second == visible[j] && ib->second == visible[i]))) continue;
+          ++f.found;
+          const double truth = (p1 - p0).norm();
+          if (!e.Complete()) {
+            ++f.cut;
+            EXPECT_LT(e.length, truth + 0.03) << "a cut edge only bounds the length from below (+3 cm noise)";
+            continue;
+          }
+          ++f.complete;
+          f.length_error.push_back(std::abs(e.length - truth));
+          if (std::getenv("EDGE_DEBUG")) {
+            std::printf("faces %d-%d truth %.3f length %.3f eq6 %.3f points %d\n", visible[i], visible[j], truth,
+                        e.length, e.length_eq6, e.points);
+          }
+          f.length_eq6_error.push_back(std::abs(e.length_eq6 - truth));
+          const double ends = std::min(std::max((e.start - t0).norm(), (e.end - t1).norm()),
+                                       std::max((e.start - t1).norm(), (e.end - t0).norm()));
+          f.end_error.push_back(ends);
+        }
+      }
+    }
+  }
+  std::printf("box edges: %d true, %d found (%d complete, %d cut); complete edges: length error median %.1f mm "
+              "(eq. 6: %.1f mm), worse end median %.1f mm\n",
+              f.true_edges, f.found, f.complete, f.cut, 1000 * Median(f.length_error),
+              1000 * Median(f.length_eq6_error), 1000 * Median(f.end_error));
+  return f;
+}
+
+TEST(Intersections, BoxEdgesHaveTheirTrueLengthsAndEnds) {
+  const EdgeFigures f = Evaluate(testing::BoxViewpoints());
+  EXPECT_GE(f.found, 0.9 * f.true_edges);
+  ASSERT_GE(f.complete, 30);
+  EXPECT_LE(Median(f.length_error), 0.01) << "m";
+  EXPECT_LE(Median(f.end_error), 0.015) << "m";
+}
+
+TEST(Intersections, EdgesLeavingTheImageAreCut) {
+  // Close to the box and looking past it: its vertical edges run out of the image at the bottom.
+  const sim::SceneObject& box = testing::DefaultScene().object("box");
+  const Eigen::Vector3d c = box.T_world_object.translation();
+  const Eigen::Vector3d diagonal = (box.T_world_object.linear() * Eigen::Vector3d(1, -1, 0)).normalized();
+  const Pose3 pose = testing::LookAt(c + 0.9 * diagonal + Eigen::Vector3d(0, 0, 0.5), c + Eigen::Vector3d(0, 0, 0.3));
+  const EdgeFigures f = Evaluate({pose});
+  EXPECT_GE(f.cut, 1);
+}
+
+TEST(Intersections, ParallelPlanesDoNotIntersect) {
+  // Two parallel planes 1 cm apart sharing pixels would pass the distance test; the angle test
+  // keeps them apart.
+  DetectedPlane a, b;
+  a.plane = {Eigen::Vector3d(0, 0, -1), 2.0};
+  b.plane = {Eigen::Vector3d(0, 0, -1), 2.01};
+  Cloud cloud(640, 480);
+  for (int i = 0; i < 1000; ++i) {
+    cloud[i].x = 0.001f * i;
+    cloud[i].y = 0.0f;
+    cloud[i].z = 2.005f;
+    (i % 2 ? a : b).inliers.push_back(i);
+  }
+  a.id = 0;
+  b.id = 1;
+  EXPECT_TRUE(FindIntersections({a, b}, cloud, XtionCamera(), IntersectionConfig{}).empty());
+}
+
+}  // namespace
+}  // namespace planemap
