@@ -26,21 +26,36 @@ const CameraIntrinsics& XtionCamera() {
 }
 
 std::vector<Pose3> BoxViewpoints() {
-  const sim::SceneObject& box = DefaultScene().object("box");
-  const Eigen::Vector3d center = box.T_world_object.translation();
-  // The box's +x and -y faces both face bearing yaw - 45 deg from its centre.
-  const Eigen::Vector3d x_axis = box.T_world_object.linear().col(0);
-  const double diagonal = std::atan2(x_axis.y(), x_axis.x()) - M_PI / 4;
-  std::vector<Pose3> poses;
-  for (double distance : {1.0, 1.5, 2.0, 2.5, 3.0}) {
-    for (double offset_deg : {-25.0, 0.0, 25.0}) {
-      for (double height : {0.6, 1.0}) {
-        const double b = diagonal + offset_deg * M_PI / 180.0;
-        const Eigen::Vector3d eye = center + Eigen::Vector3d(distance * std::cos(b), distance * std::sin(b), 0.0);
-        poses.push_back(LookAt(Eigen::Vector3d(eye.x(), eye.y(), height), center));
+  static const std::vector<Pose3> poses = [] {
+    const sim::Scene& scene = DefaultScene();
+    const sim::SceneObject& box = scene.object("box");
+    const sim::Cuboid& cuboid = scene.cuboids[box.cuboids[0]];
+    const Eigen::Vector3d center = box.T_world_object.translation();
+    // The box's +x and -y faces both face bearing yaw - 45 deg from its centre.
+    const Eigen::Vector3d x_axis = box.T_world_object.linear().col(0);
+    const double diagonal = std::atan2(x_axis.y(), x_axis.x()) - M_PI / 4;
+    sim::RenderConfig exact;
+    exact.add_noise = false;
+    const sim::VirtualCamera camera(scene, XtionCamera(), exact);
+    std::vector<Pose3> selected;
+    for (double distance : {1.0, 1.5, 2.0, 2.5, 3.0}) {
+      for (double offset_deg : {-20.0, -10.0, 0.0, 10.0, 20.0}) {
+        for (double height : {0.7, 1.0, 1.3}) {
+          const double b = diagonal + offset_deg * M_PI / 180.0;
+          const Eigen::Vector3d eye = center + Eigen::Vector3d(distance * std::cos(b), distance * std::sin(b), 0.0);
+          const Pose3 pose = LookAt(Eigen::Vector3d(eye.x(), eye.y(), height), center);
+          // Keep the view if the two sides (+x, -y) and the top each show 1500+ pixels.
+          const sim::RenderedFrame frame = camera.RenderExact(pose);
+          int visible[6] = {0, 0, 0, 0, 0, 0};
+          for (std::uint16_t label : frame.labels.pixels()) {
+            for (int f = 0; f < 6; ++f) visible[f] += label == cuboid.face_labels[f];
+          }
+          if (visible[0] >= 1500 && visible[3] >= 1500 && visible[4] >= 1500) selected.push_back(pose);
+        }
       }
     }
-  }
+    return selected;
+  }();
   return poses;
 }
 

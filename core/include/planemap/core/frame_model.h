@@ -33,10 +33,20 @@ struct TrihedralAngle {
   Eigen::Vector3d corner = Eigen::Vector3d::Zero();  // the point on all three planes [m]
 };
 
+// Trihedral angles that share graph edges, aggregated angle by angle: one plane-based object.
+struct FrameObject {
+  std::vector<int> planes;  // plane ids of the object's faces (never the floor or other structure)
+  std::vector<int> angles;  // indices into FrameModel::angles
+  std::string label = "unknown";  // class from the graph patterns
+};
+
 struct FrameModel {
   std::vector<DetectedPlane> planes;
   std::vector<PlaneEdge> edges;
   std::vector<TrihedralAngle> angles;
+  std::vector<FrameObject> objects;
+  int floor = -1;                 // plane id of the floor, -1 if not seen
+  std::vector<bool> structure;    // per plane: floor, walls and other room-sized planes
   std::string reason;  // why the model is empty or partial; empty when all is well
 
   // Index into `edges` of the edge between two planes, or -1.

@@ -1,0 +1,43 @@
+#pragma once
+// Step 4 of the frontend: the plane graph (node = plane, edge = real intersection), its trihedral
+// angles (3-cycles) with their corners, the floor and other structure, and objects aggregated
+// from trihedral angles that share a graph edge, angle by angle (paper section 4.1).
+#include <vector>
+
+#include "planemap/core/config.h"
+#include "planemap/core/frame_model.h"
+#include "planemap/frontend/organized_cloud.h"
+
+namespace planemap {
+
+struct PlaneGraphConfig {
+  // Where "up" is in the camera frame before anything is known; the default is a camera looking
+  // 20 deg down, as on the Nao's head. The floor is the lowest plane (largest offset) within
+  // floor_max_angle_deg of it, below the camera and with floor_min_inliers or more: it lies under
+  // every object, so a box's top, also horizontal, is never taken for it.
+  std::vector<double> up_in_camera{0.0, -0.9397, -0.3420};
+  double floor_max_angle_deg = 45.0;    // [deg]
+  int floor_min_inliers = 5000;         // [px]
+  double floor_min_distance = 0.2;      // the floor lies at least this far below the camera [m]
+  double structure_min_extent = 2.0;    // planes whose inliers span more are room structure [m]
+  double corner_max_distance = 0.1;     // a trihedral corner lies this close to its three edges [m]
+  double corner_min_determinant = 0.3;  // |det(n1, n2, n3)|: below, the three planes are too close
+                                        // to sharing a line for a stable corner
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("up_in_camera", up_in_camera);
+    v("floor_max_angle_deg", floor_max_angle_deg, Check::kPositive);
+    v("floor_min_inliers", floor_min_inliers, Check::kPositive);
+    v("floor_min_distance", floor_min_distance, Check::kNonNegative);
+    v("structure_min_extent", structure_min_extent, Check::kPositive);
+    v("corner_max_distance", corner_max_distance, Check::kPositive);
+    v("corner_min_determinant", corner_min_determinant, Check::kProbability);
+  }
+};
+
+// Fills model->floor, model->structure, model->angles and model->objects from its planes and
+// edges (the planes' inliers index into `cloud`).
+void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
+
+}  // namespace planemap

@@ -1,0 +1,129 @@
+#include "planemap/frontend/plane_graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <set>
+
+#include <Eigen/Dense>
+
+namespace planemap {
+namespace {
+
+double DistanceToSegment(const Eigen::Vector3d& p, const PlaneEdge& e) {
+  const Eigen::Vector3d d = e.end - e.start;
+  const double t = std::clamp(d.dot(p - e.start) / std::max(d.squaredNorm(), 1e-12), 0.0, 1.0);
+  return (e.start + t * d - p).norm();
+}
+
+// Extent of a plane's inliers: the diagonal of their bounding box [m].
+double Extent(const Cloud& cloud, const DetectedPlane& plane) {
+  Eigen::Vector3f low = Eigen::Vector3f::Constant(1e30f), high = -low;
+  for (int i : plane.inliers) {
+    low = low.cwiseMin(cloud[i].getVector3fMap());
+    high = high.cwiseMax(cloud[i].getVector3fMap());
+  }
+  return plane.inliers.empty() ? 0.0 : static_cast<double>((high - low).norm());
+}
+
+int Find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
+  const std::vector<DetectedPlane>& planes = model->planes;
+  const size_t n = planes.size();
+
+  // 1. The floor and the other room structure.
+  Eigen::Vector3d up(config.up_in_camera.size() == 3 ? config.up_in_camera[0] : 0.0,
+                     config.up_in_camera.size() == 3 ? config.up_in_camera[1] : -1.0,
+                     config.up_in_camera.size() == 3 ? config.up_in_camera[2] : 0.0);
+  up.normalize();
+  const double floor_cos = std::cos(config.floor_max_angle_deg * M_PI / 180.0);
+  model->floor = -1;
+  for (size_t i = 0; i < n; ++i) {
+    // Normals point toward the camera, so the floor's points up and its offset is the height.
+    const Plane& p = planes[i].plane;
+    if (p.normal.dot(up) < floor_cos || p.offset < config.floor_min_distance ||
+        static_cast<int>(planes[i].inliers.size()) < config.floor_min_inliers) {
+      continue;
+    }
+    if (model->floor < 0 || p.offset > planes[model->floor].plane.offset) model->floor = static_cast<int>(i);
+  }
+  model->structure.assign(n, false);
+  for (size_t i = 0; i < n; ++i) {
+    model->structure[i] = static_cast<int>(i) == model->floor || Extent(cloud, planes[i]) > config.structure_min_extent;
+  }
+
+  // 2. Trihedral angles: 3-cycles of the graph whose three planes meet in a corner near all
+  //    three edges.
+  std::vector<std::vector<int>> adjacent(n);
+  for (const PlaneEdge& e : model->edges) {
+    adjacent[e.plane_a].push_back(e.plane_b);
+    adjacent[e.plane_b].push_back(e.plane_a);
+  }
+  model->angles.clear();
+  for (int a = 0; a < static_cast<int>(n); ++a) {
+    for (int b : adjacent[a]) {
+      if (b <= a) continue;
+      for (int c : adjacent[b]) {
+        if (c <= b || std::find(adjacent[a].begin(), adjacent[a].end(), c) == adjacent[a].end()) continue;
+        Eigen::Matrix3d N;
+        N << planes[a].plane.normal.transpose(), planes[b].plane.normal.transpose(), planes[c].plane.normal.transpose();
+        if (std::abs(N.determinant()) < config.corner_min_determinant) continue;
+        TrihedralAngle angle;
+        angle.planes = {a, b, c};
+        angle.edges = {model->EdgeBetween(a, b), model->EdgeBetween(a, c), model->EdgeBetween(b, c)};
+        angle.corner = N.partialPivLu().solve(
+            -Eigen::Vector3d(planes[a].plane.offset, planes[b].plane.offset, planes[c].plane.offset));
+        bool near = true;
+        for (int e : angle.edges) near = near && DistanceToSegment(angle.corner, model->edges[e]) < config.corner_max_distance;
+        if (near) model->angles.push_back(angle);
+      }
+    }
+  }
+
+  // 3. Objects: angles that share a graph edge (two planes) belong together, angle by angle.
+  //    Structure planes are not faces of an object, and an edge between two structure planes
+  //    (a wall on the floor) joins nothing: two lockers both standing on the floor stay apart.
+  const size_t m = model->angles.size();
+  std::vector<int> parent(m);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (size_t i = 0; i < m; ++i) {
+    for (size_t j = i + 1; j < m; ++j) {
+      for (int e : model->angles[i].edges) {
+        const PlaneEdge& edge = model->edges[e];
+        if (model->structure[edge.plane_a] && model->structure[edge.plane_b]) continue;
+        const auto& other = model->angles[j].edges;
+        if (std::find(other.begin(), other.end(), e) != other.end()) parent[Find(parent, i)] = Find(parent, j);
+      }
+    }
+  }
+  model->objects.clear();
+  std::vector<int> object_of_root(m, -1);
+  for (size_t i = 0; i < m; ++i) {
+    const int root = Find(parent, static_cast<int>(i));
+    if (object_of_root[root] < 0) {
+      object_of_root[root] = static_cast<int>(model->objects.size());
+      model->objects.emplace_back();
+    }
+    model->objects[object_of_root[root]].angles.push_back(static_cast<int>(i));
+  }
+  std::vector<FrameObject> kept;
+  for (FrameObject& object : model->objects) {
+    std::set<int> faces;
+    for (int a : object.angles) {
+      for (int p : model->angles[a].planes) {
+        if (!model->structure[p]) faces.insert(p);
+      }
+    }
+    object.planes.assign(faces.begin(), faces.end());
+    if (object.planes.size() >= 2) kept.push_back(std::move(object));  // a room corner is no object
+  }
+  model->objects = std::move(kept);
+}
+
+}  // namespace planemap
