@@ -124,6 +124,18 @@ void ConfigReader::ReadScalar(const YAML::Node& node, const char* key, std::vect
   *value = std::move(values);
 }
 
+void ConfigReader::ReadScalar(const YAML::Node& node, const char* key, std::vector<std::string>* value,
+                              Check check) {
+  if (!node.IsSequence()) Fail(node, key, "expects a list of strings");
+  std::vector<std::string> values;
+  for (const auto& item : node) {
+    std::string x;
+    ReadScalar(item, key, &x, check);
+    values.push_back(x);
+  }
+  *value = std::move(values);
+}
+
 void ConfigValidator::Report(const char* key, const std::string& problem) const {
   if (!problem.empty()) throw std::invalid_argument(prefix_ + key + " " + problem);
 }

@@ -140,6 +140,14 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Clo
            const CameraIntrinsics& camera, const IntersectionConfig& c) {
   if (end.z() <= 0.0) return true;
   const double step = end.z() / camera.fx;  // about one pixel at the end's depth [m]
+  // The edge's extent is measured on bands up to band_width beside it, which leave the image
+  // before the edge line does: an end within that many pixels of the border may be the border's.
+  const int margin = c.border_margin + static_cast<int>(std::ceil(c.band_width / step));
+  const Eigen::Vector2d end_uv = camera.Project(end);
+  if (end_uv.x() < margin || end_uv.y() < margin || end_uv.x() >= camera.width - margin ||
+      end_uv.y() >= camera.height - margin) {
+    return true;
+  }
   for (int k = 0; k <= c.cut_search; ++k) {
     const Eigen::Vector3d x = end + (k * step) * outward;
     if (x.z() <= 0.0) return true;
@@ -153,8 +161,13 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Clo
     const int i = v * camera.width + u;
     if (!IsValidPoint(cloud[i])) return true;
     if (cloud[i].z < x.z() - std::max(0.05, 2.0 * c.d_thresh)) {
+      // The edge ends here only if the nearer surface is a plane through the end and is itself at
+      // the end (the floor under a box's edge), not a plane that merely passes there further
+      // away (the top of a box in front of a locker's edge).
       const int owner = plane_of_pixel[i];
-      const bool ends_here = owner >= 0 && std::abs(planes[owner].plane.SignedDistance(end)) < 2.0 * c.d_thresh;
+      const Eigen::Vector3d seen(cloud[i].x, cloud[i].y, cloud[i].z);
+      const bool ends_here = owner >= 0 && std::abs(planes[owner].plane.SignedDistance(end)) < 2.0 * c.d_thresh &&
+                             (seen - end).norm() < c.end_max_distance;
       return !ends_here;
     }
   }

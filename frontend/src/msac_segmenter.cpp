@@ -87,7 +87,7 @@ SegmentationResult MsacSegmenter::Segment(const Cloud& cloud) const {
     std::set_difference(remaining->begin(), remaining->end(), used.begin(), used.end(), std::back_inserter(*next));
     remaining = next;
   }
-  return FinishSegmentation(std::move(planes), valid_points, config_);
+  return FinishSegmentation(cloud, std::move(planes), valid_points, config_);
 }
 
 }  // namespace planemap

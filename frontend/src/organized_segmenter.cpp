@@ -259,7 +259,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     plane.inliers = std::move(inliers[r]);
     planes.push_back(std::move(plane));
   }
-  return FinishSegmentation(std::move(planes), valid_points, config_);
+  return FinishSegmentation(cloud, std::move(planes), valid_points, config_);
 }
 
 }  // namespace planemap

@@ -32,8 +32,56 @@ DetectedPlane FitDetectedPlane(const Cloud& cloud, std::vector<int> inliers) {
   return plane;
 }
 
-SegmentationResult FinishSegmentation(std::vector<DetectedPlane> planes, int valid_points,
+namespace {
+
+struct PixelBox {
+  int u0 = 1 << 30, v0 = 1 << 30, u1 = -1, v1 = -1;
+  int Gap(const PixelBox& o) const {
+    const int du = std::max({0, o.u0 - u1, u0 - o.u1}), dv = std::max({0, o.v0 - v1, v0 - o.v1});
+    return std::max(du, dv);
+  }
+};
+
+// Merges pairs of planes with one equation whose pixels lie close, until none is left.
+void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vector<DetectedPlane>* planes) {
+  const double min_cos = std::cos(config.coplanar_max_angle_deg * M_PI / 180.0);
+  const int w = static_cast<int>(cloud.width);
+  bool merged = true;
+  while (merged) {
+    merged = false;
+    std::vector<PixelBox> boxes(planes->size());
+    for (size_t k = 0; k < planes->size(); ++k) {
+      for (int i : (*planes)[k].inliers) {
+        PixelBox& b = boxes[k];
+        b.u0 = std::min(b.u0, i % w), b.u1 = std::max(b.u1, i % w);
+        b.v0 = std::min(b.v0, i / w), b.v1 = std::max(b.v1, i / w);
+      }
+    }
+    for (size_t a = 0; a < planes->size() && !merged; ++a) {
+      for (size_t b = a + 1; b < planes->size() && !merged; ++b) {
+        const DetectedPlane& pa = (*planes)[a];
+        const DetectedPlane& pb = (*planes)[b];
+        if (pa.plane.normal.dot(pb.plane.normal) < min_cos || boxes[a].Gap(boxes[b]) > config.coplanar_max_gap) continue;
+        if (std::abs(pa.plane.SignedDistance(pb.centroid)) > config.coplanar_max_distance ||
+            std::abs(pb.plane.SignedDistance(pa.centroid)) > config.coplanar_max_distance) {
+          continue;
+        }
+        std::vector<int> inliers = pa.inliers;
+        inliers.insert(inliers.end(), pb.inliers.begin(), pb.inliers.end());
+        std::sort(inliers.begin(), inliers.end());
+        (*planes)[a] = FitDetectedPlane(cloud, std::move(inliers));
+        planes->erase(planes->begin() + b);
+        merged = true;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+SegmentationResult FinishSegmentation(const Cloud& cloud, std::vector<DetectedPlane> planes, int valid_points,
                                       const SegmenterConfig& config) {
+  MergeCoplanar(cloud, config, &planes);
   // The angle between the plane and the ray to its centroid: cos = d / |centroid|.
   const double min_cos = std::cos(config.max_view_angle_deg * M_PI / 180.0);
   planes.erase(std::remove_if(planes.begin(), planes.end(),

@@ -10,7 +10,8 @@
 //
 // and that single list drives reading (unknown keys, wrong types, NaN and out-of-range values are
 // errors naming the file, line and key), writing and validation of structs built in code.
-// Supported field types: double, int, bool, std::string, std::vector<double>, nested structs
+// Supported field types: double, int, bool, std::string, std::vector<double>,
+// std::vector<std::string>, nested structs
 // that have VisitFields themselves, and std::vector of such structs (a YAML list of maps).
 #include <cmath>
 #include <string>
@@ -102,6 +103,7 @@ class ConfigReader {
   void ReadScalar(const YAML::Node& node, const char* key, bool* value, Check check);
   void ReadScalar(const YAML::Node& node, const char* key, std::string* value, Check check);
   void ReadScalar(const YAML::Node& node, const char* key, std::vector<double>* value, Check check);
+  void ReadScalar(const YAML::Node& node, const char* key, std::vector<std::string>* value, Check check);
 
   YAML::Node map_;
   std::string file_;

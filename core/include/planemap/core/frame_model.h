@@ -38,6 +38,16 @@ struct FrameObject {
   std::vector<int> planes;  // plane ids of the object's faces (never the floor or other structure)
   std::vector<int> angles;  // indices into FrameModel::angles
   std::string label = "unknown";  // class from the graph patterns
+
+  // Geometry (camera frame). Axes: columns x, y, z with z up (the floor's normal), x the normal
+  // of the object's largest vertical face.
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d dimensions = Eigen::Vector3d::Zero();  // longest edge along each axis [m]
+  std::array<bool, 3> dimension_complete{};              // that edge is fully visible
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();      // eq. (7), mean over the angles [m]
+  std::vector<int> grasp_sides;  // plane ids of faces a two-handed grasp could hold
+  int grasp_side = -1;           // the chosen one (most facing the camera), -1 if none
+  Eigen::Vector3d grasp_axis = Eigen::Vector3d::Zero();  // its normal (toward the camera)
 };
 
 struct FrameModel {

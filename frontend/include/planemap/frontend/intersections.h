@@ -16,6 +16,8 @@ struct IntersectionConfig {
   double min_angle_deg = 30.0;     // planes closer to parallel do not intersect [deg]
   int border_margin = 4;           // an edge end this close to the image border is cut [px]
   int cut_search = 6;              // an end with no depth within this many pixels beyond it is cut [px]
+  double end_max_distance = 0.15;  // a nearer surface beyond an end ends the edge only if its
+                                   // point there lies this close to the end [m]
   double band_width = 0.09;        // each plane's extent along the edge is measured on its inliers
                                    // from d_thresh to this far from the other plane [m]
   double end_trim_fraction = 0.0;  // share of each plane's band points ignored at either end
@@ -30,6 +32,7 @@ struct IntersectionConfig {
     v("min_angle_deg", min_angle_deg, Check::kPositive);
     v("border_margin", border_margin, Check::kNonNegative);
     v("cut_search", cut_search, Check::kPositive);
+    v("end_max_distance", end_max_distance, Check::kPositive);
     v("band_width", band_width, Check::kPositive);
     v("end_trim_fraction", end_trim_fraction, Check::kProbability);
     v("max_gap", max_gap, Check::kPositive);

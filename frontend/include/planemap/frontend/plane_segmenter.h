@@ -66,6 +66,11 @@ struct MsacSegmenterConfig {
 struct SegmenterConfig {
   std::string method = "organized";  // organized | msac
   int min_inliers = 400;             // planes with fewer inlier pixels are dropped [px]
+  // Planes of one equation whose pixels lie close in the image are one surface cut in two by an
+  // occluder in front of it (a box before a locker's side): they are merged.
+  double coplanar_max_angle_deg = 5.0;  // normals this close ... [deg]
+  double coplanar_max_distance = 0.03;  // ... each centroid this close to the other plane [m]
+  int coplanar_max_gap = 40;            // ... and their pixel boxes this close [px]
   double max_view_angle_deg = 85.0;  // planes seen more edge-on at their centroid are dropped:
                                      // a plane through the camera holds whole pixel strips of
                                      // unrelated points [deg]
@@ -76,6 +81,9 @@ struct SegmenterConfig {
   void VisitFields(V&& v) {
     v("method", method);
     v("min_inliers", min_inliers, Check::kPositive);
+    v("coplanar_max_angle_deg", coplanar_max_angle_deg, Check::kNonNegative);
+    v("coplanar_max_distance", coplanar_max_distance, Check::kNonNegative);
+    v("coplanar_max_gap", coplanar_max_gap, Check::kNonNegative);
     v("max_view_angle_deg", max_view_angle_deg, Check::kPositive);
     v("organized", organized);
     v("msac", msac);
@@ -97,9 +105,10 @@ class PlaneSegmenter {
 // Throws std::invalid_argument for an unknown method or out-of-range settings.
 std::unique_ptr<PlaneSegmenter> MakePlaneSegmenter(const SegmenterConfig& config);
 
-// Drops planes seen edge-on (config.max_view_angle_deg), orders the rest by decreasing inlier
-// count, numbers them, and sets the reason when there is none.
-SegmentationResult FinishSegmentation(std::vector<DetectedPlane> planes, int valid_points,
+// Merges planes one occluder cut in two (coplanar_*), drops planes seen edge-on
+// (max_view_angle_deg), orders the rest by decreasing inlier count, numbers them, and sets the
+// reason when there is none.
+SegmentationResult FinishSegmentation(const Cloud& cloud, std::vector<DetectedPlane> planes, int valid_points,
                                       const SegmenterConfig& config);
 
 // Refits a plane by least squares on the given pixels of the cloud, each weighted by the inverse

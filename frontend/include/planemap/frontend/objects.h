@@ -1,0 +1,82 @@
+#pragma once
+// Steps 4-5 of the frontend: classify objects by graph patterns (paper Fig. 3, loaded from
+// configs/patterns.yaml) and measure them: dimensions from their edges, centre by eq. (7), grasp
+// sides and axis.
+#include <string>
+#include <vector>
+
+#include "planemap/core/config.h"
+#include "planemap/core/frame_model.h"
+#include "planemap/frontend/organized_cloud.h"
+
+namespace planemap {
+
+struct PatternNode {
+  std::string name;
+  std::string orientation = "any";  // floor | horizontal | vertical | any
+  template <class V>
+  void VisitFields(V&& v) {
+    v("name", name);
+    v("orientation", orientation);
+  }
+};
+
+struct GraphPattern {
+  std::string class_name;
+  std::vector<PatternNode> nodes;
+  std::vector<std::string> edges;  // "a-b": nodes a and b intersect
+  double min_height = 0.0;         // object height above the floor [m], 0 = no limit
+  double max_height = 0.0;         // [m], 0 = no limit
+  template <class V>
+  void VisitFields(V&& v) {
+    v("class", class_name);
+    v("nodes", nodes);
+    v("edges", edges);
+    v("min_height", min_height, Check::kNonNegative);
+    v("max_height", max_height, Check::kNonNegative);
+  }
+};
+
+struct PatternsConfig {
+  std::vector<GraphPattern> patterns;
+  template <class V>
+  void VisitFields(V&& v) {
+    v("patterns", patterns);
+  }
+};
+
+// Loads and checks patterns (known orientations, edges between declared nodes); throws
+// InputError naming the file and the pattern.
+PatternsConfig LoadPatterns(const std::string& file);
+
+struct ObjectConfig {
+  double orientation_tolerance_deg = 15.0;  // horizontal / vertical within this of exact [deg]
+  double axis_tolerance_deg = 15.0;         // an edge measures an axis if this close to it [deg]
+  double hand_span_min = 0.10;              // a two-handed grasp holds objects this wide ... [m]
+  double hand_span_max = 0.40;              // ... up to this wide, across the held sides [m]
+  double grasp_max_height = 0.60;           // and up to this tall [m]
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("orientation_tolerance_deg", orientation_tolerance_deg, Check::kPositive);
+    v("axis_tolerance_deg", axis_tolerance_deg, Check::kPositive);
+    v("hand_span_min", hand_span_min, Check::kNonNegative);
+    v("hand_span_max", hand_span_max, Check::kPositive);
+    v("grasp_max_height", grasp_max_height, Check::kPositive);
+  }
+};
+
+// Height of an object's highest point above the floor (99th percentile of its faces' inliers),
+// or its vertical extent when there is no floor [m].
+double ObjectHeight(const Cloud& cloud, const FrameModel& model, const FrameObject& object, const Eigen::Vector3d& up);
+
+// Sets each object's label: the class of the first matching pattern, else "unknown". Needs the
+// objects measured first: a height limit only rules a class out when the height is known (the
+// top is seen or the vertical edge is complete), not when the object runs out of the image.
+void ClassifyObjects(const Cloud& cloud, const PatternsConfig& patterns, const ObjectConfig& config,
+                     const Eigen::Vector3d& up, FrameModel* model);
+
+// Sets each object's axes, dimensions, centre (eq. 7) and grasp sides and axis.
+void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen::Vector3d& up, FrameModel* model);
+
+}  // namespace planemap

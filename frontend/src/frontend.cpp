@@ -1,0 +1,47 @@
+#include "planemap/frontend/frontend.h"
+
+namespace planemap {
+
+Frontend::Frontend(const CameraIntrinsics& camera, const FrontendConfig& config, PatternsConfig patterns)
+    : camera_(camera), config_(config), patterns_(std::move(patterns)), segmenter_(MakePlaneSegmenter(config.segmentation)) {
+  ValidateConfig(camera_, "camera.");
+  ValidateConfig(config_, "frontend.");
+  if (config_.graph.up_in_camera.size() != 3) throw std::invalid_argument("frontend.graph.up_in_camera needs 3 numbers");
+}
+
+FrameModel Frontend::Process(const RgbdFrame& frame) const {
+  return Process(*MakeOrganizedCloud(frame, camera_, config_.cloud));
+}
+
+FrameModel Frontend::Process(const Cloud& cloud) const {
+  FrameModel model;
+  // 1-2. Planes (MSAC or organized), normals toward the camera.
+  SegmentationResult segmentation = segmenter_->Segment(cloud);
+  model.planes = std::move(segmentation.planes);
+  if (model.planes.empty()) {
+    model.reason = segmentation.reason;
+    return model;
+  }
+  // 3. Real intersections, eqs. (2)-(6).
+  model.edges = FindIntersections(model.planes, cloud, camera_, config_.intersections);
+  // 4. Plane graph, trihedral angles, floor, objects aggregated angle by angle.
+  BuildPlaneGraph(cloud, config_.graph, &model);
+  const Eigen::Vector3d up_prior(config_.graph.up_in_camera[0], config_.graph.up_in_camera[1], config_.graph.up_in_camera[2]);
+  const Eigen::Vector3d up = model.floor >= 0 ? model.planes[model.floor].plane.normal : up_prior.normalized();
+  // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
+  MeasureObjects(cloud, config_.objects, up_prior, &model);
+  ClassifyObjects(cloud, patterns_, config_.objects, up, &model);
+
+  if (model.planes.size() < 3) {
+    model.reason = std::to_string(model.planes.size()) + " plane(s): a trihedral angle needs three";
+  } else if (model.edges.empty()) {
+    model.reason = "no real intersection between the " + std::to_string(model.planes.size()) + " planes";
+  } else if (model.angles.empty()) {
+    model.reason = "no trihedral angle among " + std::to_string(model.edges.size()) + " intersections";
+  } else if (model.objects.empty()) {
+    model.reason = "trihedral angles only between room structure (floor, walls): no object";
+  }
+  return model;
+}
+
+}  // namespace planemap

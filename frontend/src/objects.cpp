@@ -1,0 +1,224 @@
+#include "planemap/frontend/objects.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "planemap/core/error.h"
+
+namespace planemap {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+std::pair<std::string, std::string> SplitEdge(const std::string& edge) {
+  const size_t dash = edge.find('-');
+  if (dash == std::string::npos) return {"", ""};
+  return {edge.substr(0, dash), edge.substr(dash + 1)};
+}
+
+struct Matcher {
+  const GraphPattern& pattern;
+  const FrameModel& model;
+  std::vector<int> graph;                      // plane ids: the object's faces and the floor
+  std::vector<std::string> orientation;        // per graph node
+  std::vector<std::pair<int, int>> edges;      // pattern edges as node indices
+  std::vector<int> assignment;                 // pattern node -> graph node
+
+  bool Fits(size_t node, int g) const {
+    const std::string& want = pattern.nodes[node].orientation;
+    if (want != "any" && want != orientation[g]) return false;
+    if (std::find(assignment.begin(), assignment.begin() + node, g) != assignment.begin() + node) return false;
+    for (const auto& [a, b] : edges) {  // edges to nodes already placed
+      const size_t other = a == static_cast<int>(node) ? b : (b == static_cast<int>(node) ? a : node);
+      if (other == node || other > node) continue;
+      if (model.EdgeBetween(graph[g], graph[assignment[other]]) < 0) return false;
+    }
+    return true;
+  }
+  bool Search(size_t node) {
+    if (node == pattern.nodes.size()) return true;
+    for (int g = 0; g < static_cast<int>(graph.size()); ++g) {
+      if (!Fits(node, g)) continue;
+      assignment[node] = g;
+      if (Search(node + 1)) return true;
+    }
+    return false;
+  }
+};
+
+std::string Orientation(const FrameModel& model, int plane, const Eigen::Vector3d& up, double tolerance) {
+  if (plane == model.floor) return "floor";
+  const double c = std::abs(model.planes[plane].plane.normal.dot(up));
+  if (c > std::cos(tolerance)) return "horizontal";
+  if (c < std::sin(tolerance)) return "vertical";
+  return "slanted";
+}
+
+}  // namespace
+
+PatternsConfig LoadPatterns(const std::string& file) {
+  PatternsConfig config = LoadConfigFile<PatternsConfig>(file);
+  const std::set<std::string> orientations = {"floor", "horizontal", "vertical", "any"};
+  for (size_t i = 0; i < config.patterns.size(); ++i) {
+    const GraphPattern& p = config.patterns[i];
+    const std::string where = "patterns[" + std::to_string(i) + "]";
+    if (p.class_name.empty()) ThrowInputError(file, 0, where + " has no 'class'");
+    if (p.nodes.empty()) ThrowInputError(file, 0, where + " (" + p.class_name + ") has no nodes");
+    std::set<std::string> names;
+    for (const PatternNode& n : p.nodes) {
+      if (!orientations.count(n.orientation)) {
+        ThrowInputError(file, 0, where + " (" + p.class_name + "): node '" + n.name + "' has unknown orientation '" +
+                                     n.orientation + "' (known: floor, horizontal, vertical, any)");
+      }
+      if (!names.insert(n.name).second) ThrowInputError(file, 0, where + ": duplicate node '" + n.name + "'");
+    }
+    for (const std::string& e : p.edges) {
+      const auto [a, b] = SplitEdge(e);
+      if (!names.count(a) || !names.count(b)) {
+        ThrowInputError(file, 0, where + " (" + p.class_name + "): edge '" + e + "' must join two of its nodes as 'a-b'");
+      }
+    }
+  }
+  return config;
+}
+
+double ObjectHeight(const Cloud& cloud, const FrameModel& model, const FrameObject& object, const Eigen::Vector3d& up) {
+  std::vector<double> heights;
+  for (int p : object.planes) {
+    for (int i : model.planes[p].inliers) {
+      const Eigen::Vector3d x = cloud[i].getVector3fMap().cast<double>();
+      heights.push_back(model.floor >= 0 ? model.planes[model.floor].plane.SignedDistance(x) : up.dot(x));
+    }
+  }
+  if (heights.empty()) return 0.0;
+  const size_t k = std::min(heights.size() - 1, static_cast<size_t>(0.99 * heights.size()));
+  std::nth_element(heights.begin(), heights.begin() + k, heights.end());
+  const double top = heights[k];
+  if (model.floor >= 0) return top;
+  const size_t j = static_cast<size_t>(0.01 * heights.size());
+  std::nth_element(heights.begin(), heights.begin() + j, heights.end());
+  return top - heights[j];
+}
+
+void ClassifyObjects(const Cloud& cloud, const PatternsConfig& patterns, const ObjectConfig& config,
+                     const Eigen::Vector3d& up, FrameModel* model) {
+  for (FrameObject& object : model->objects) {
+    object.label = "unknown";
+    std::vector<int> graph = object.planes;
+    if (model->floor >= 0) graph.push_back(model->floor);
+    std::vector<std::string> orientation;
+    for (int p : graph) orientation.push_back(Orientation(*model, p, up, config.orientation_tolerance_deg * kDegToRad));
+    // The height is known when the top is seen or a vertical edge is complete; otherwise the
+    // object may go on beyond the image and its height only bounds the true one from below.
+    const double height = ObjectHeight(cloud, *model, object, up);
+    bool height_known = object.dimension_complete[2];
+    for (size_t g = 0; g < graph.size(); ++g) height_known = height_known || orientation[g] == "horizontal";
+    for (const GraphPattern& pattern : patterns.patterns) {
+      if (pattern.max_height > 0 && (height > pattern.max_height || !height_known)) continue;
+      if (pattern.min_height > 0 && height < pattern.min_height && height_known) continue;
+      Matcher matcher{pattern, *model, graph, orientation, {}, std::vector<int>(pattern.nodes.size(), -1)};
+      for (const std::string& e : pattern.edges) {
+        const auto [a, b] = SplitEdge(e);
+        int ia = -1, ib = -1;
+        for (size_t n = 0; n < pattern.nodes.size(); ++n) {
+          if (pattern.nodes[n].name == a) ia = static_cast<int>(n);
+          if (pattern.nodes[n].name == b) ib = static_cast<int>(n);
+        }
+        matcher.edges.emplace_back(ia, ib);
+      }
+      if (matcher.Search(0)) {
+        object.label = pattern.class_name;
+        break;
+      }
+    }
+  }
+}
+
+void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen::Vector3d& up_prior, FrameModel* model) {
+  const Eigen::Vector3d up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior.normalized();
+  const double axis_cos = std::cos(config.axis_tolerance_deg * kDegToRad);
+  const double vertical_sin = std::sin(config.axis_tolerance_deg * kDegToRad);
+  for (FrameObject& object : model->objects) {
+    // 1. Axes: z up, x the horizontal normal of the largest vertical face.
+    int largest = -1;
+    for (int p : object.planes) {
+      if (std::abs(model->planes[p].plane.normal.dot(up)) > vertical_sin) continue;
+      if (largest < 0 || model->planes[p].inliers.size() > model->planes[largest].inliers.size()) largest = p;
+    }
+    Eigen::Vector3d x = largest >= 0 ? model->planes[largest].plane.normal : up.unitOrthogonal();
+    x = (x - x.dot(up) * up).normalized();
+    object.axes.col(0) = x;
+    object.axes.col(1) = up.cross(x);
+    object.axes.col(2) = up;
+
+    // 2. Dimensions: the longest edge along each axis, complete edges first.
+    std::set<int> members(object.planes.begin(), object.planes.end());
+    if (model->floor >= 0) members.insert(model->floor);
+    object.dimensions.setZero();
+    object.dimension_complete = {false, false, false};
+    auto axis_of = [&](const Eigen::Vector3d& d) {
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(d.dot(object.axes.col(k))) > axis_cos) return k;
+      }
+      return -1;
+    };
+    for (const PlaneEdge& e : model->edges) {
+      if (!members.count(e.plane_a) || !members.count(e.plane_b)) continue;
+      if (e.plane_a == model->floor && e.plane_b == model->floor) continue;
+      const int k = axis_of(e.direction);
+      if (k < 0) continue;
+      const bool better = e.Complete() ? (!object.dimension_complete[k] || e.length > object.dimensions[k])
+                                       : (!object.dimension_complete[k] && e.length > object.dimensions[k]);
+      if (better) {
+        object.dimensions[k] = e.length;
+        object.dimension_complete[k] = e.Complete();
+      }
+    }
+
+    // 3. Centre, eq. (7): C = T_c + (e1 + e2 + e3) / 2 for each trihedral angle, with e_i the
+    //    edges leaving the corner, as long as the object's dimension along them; then the mean.
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int count = 0;
+    for (int a : object.angles) {
+      const TrihedralAngle& angle = model->angles[a];
+      Eigen::Vector3d c = angle.corner;
+      for (int e : angle.edges) {
+        const PlaneEdge& edge = model->edges[e];
+        const bool from_start = (edge.start - angle.corner).norm() < (edge.end - angle.corner).norm();
+        const Eigen::Vector3d away = from_start ? edge.direction : -edge.direction;
+        const int k = axis_of(edge.direction);
+        const double length = k >= 0 && object.dimensions[k] > 0 ? object.dimensions[k] : edge.length;
+        c += 0.5 * length * away;
+      }
+      sum += c;
+      ++count;
+    }
+    object.center = count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero();
+
+    // 4. Grasp sides: vertical faces across which the object is as wide as the hands can span,
+    //    on an object low enough; the chosen side is the one facing the camera most.
+    object.grasp_sides.clear();
+    object.grasp_side = -1;
+    object.grasp_axis.setZero();
+    const double height = ObjectHeight(cloud, *model, object, up);
+    double best_facing = -1.0;
+    for (int p : object.planes) {
+      const DetectedPlane& face = model->planes[p];
+      if (std::abs(face.plane.normal.dot(up)) > vertical_sin) continue;
+      const int k = axis_of(face.plane.normal);
+      if (k < 0 || k == 2) continue;
+      const double span = object.dimensions[k];
+      if (span < config.hand_span_min || span > config.hand_span_max || height > config.grasp_max_height) continue;
+      object.grasp_sides.push_back(p);
+      const double facing = face.plane.normal.dot(-face.centroid.normalized());
+      if (facing > best_facing) {
+        best_facing = facing;
+        object.grasp_side = p;
+        object.grasp_axis = face.plane.normal;
+      }
+    }
+  }
+}
+
+}  // namespace planemap
