@@ -1,9 +1,11 @@
 // The planemap executable, run as a user would: subcommands, help, output files and errors.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "planemap/core/tum_format.h"
 #include "test_support.h"
@@ -19,8 +21,9 @@ struct CommandRun {
   std::string output;  // stdout and stderr
 };
 
-CommandRun Planemap(const std::string& args) {
-  const std::string command = std::string(PLANEMAP_BINARY) + " " + args + " 2>&1";
+// Runs planemap with `args`; its output is stdout and stderr, or stdout alone.
+CommandRun Planemap(const std::string& args, bool with_stderr = true) {
+  const std::string command = std::string(PLANEMAP_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
   std::array<char, 4096> buffer;
@@ -30,7 +33,7 @@ CommandRun Planemap(const std::string& args) {
 }
 
 TEST(Cli, EverySubcommandHasHelp) {
-  for (const char* sub : {"", "render", "inspect"}) {
+  for (const char* sub : {"", "render", "inspect", "frame"}) {
     const CommandRun run = Planemap(std::string(sub) + " --help");
     EXPECT_EQ(run.exit_code, 0) << sub;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << run.output;
@@ -64,6 +67,35 @@ TEST(Cli, RenderWritesAReadableSequence) {
   EXPECT_EQ(mismatch.exit_code, 1);
   EXPECT_NE(mismatch.output.find(out + "/camera.yaml: the sequence was written with another camera"),
             std::string::npos) << mismatch.output;
+}
+
+TEST(Cli, FramePrintsTheModelAsJsonAndWritesOverlayAndPly) {
+  TempDir dir;
+  const std::string seq = dir.File("seq");
+  ASSERT_EQ(Planemap("render --max-frames 1 --out " + seq).exit_code, 0);
+  const CommandRun frame = Planemap("frame --sequence " + seq + " --index 0 --out " + dir.File("frame"), false);
+  ASSERT_EQ(frame.exit_code, 0) << frame.output;
+  const nlohmann::json model = nlohmann::json::parse(frame.output);
+  int boxes = 0;
+  for (const auto& object : model["objects"]) {
+    if (object["class"] != "box") continue;
+    ++boxes;
+    // The default scene's box from the start pose: 0.25 x 0.35 x 0.25 m; its sides are measured.
+    std::vector<double> dims = object["dimensions"].get<std::vector<double>>();
+    std::sort(dims.begin(), dims.end());
+    EXPECT_NEAR(dims[2], 0.35, 0.02);
+  }
+  EXPECT_EQ(boxes, 1) << frame.output;
+  EXPECT_GE(model["planes"].size(), 3u);
+  for (const char* file : {"model.json", "model.ply", "overlay.png"}) {
+    EXPECT_GT(std::filesystem::file_size(dir.File("frame/") + file), 100u) << file;
+  }
+  const CommandRun two = Planemap("frame --sequence " + seq + " --pcd x.pcd");
+  EXPECT_EQ(two.exit_code, 1);
+  EXPECT_NE(two.output.find("give exactly one frame source"), std::string::npos) << two.output;
+  const CommandRun missing = Planemap("frame --sequence " + seq + " --index 5");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find("frame 5 does not exist (1 frames)"), std::string::npos) << missing.output;
 }
 
 TEST(Cli, ErrorsAreOneLineNamingTheFileAndExitNonZero) {

@@ -36,6 +36,21 @@ int main(int argc, char** argv) {
   inspect_cmd->add_option("--config", inspect.config, "Settings (YAML)")->capture_default_str();
   inspect_cmd->add_option("--max-frames", inspect.max_frames, "Read only the first N frames");
 
+  planemap::FrameOptions frame;
+  CLI::App* frame_cmd = app.add_subcommand(
+      "frame", "Planes, intersections, trihedral angles and classified objects of one RGB-D frame; prints JSON");
+  frame_cmd->add_option("--sequence", frame.sequence, "TUM-layout sequence folder");
+  frame_cmd->add_option("--index", frame.index, "Frame index in the sequence")->capture_default_str();
+  frame_cmd->add_option("--depth", frame.depth, "Depth PNG (16-bit, camera depth_scale units per metre)");
+  frame_cmd->add_option("--color", frame.color, "Colour PNG matching --depth");
+  frame_cmd->add_option("--pcd", frame.pcd, "Organized PCD point cloud (metres, camera frame)");
+  frame_cmd->add_option("--camera", frame.camera,
+                        "Camera intrinsics (YAML); default: the sequence's camera.yaml, else "
+                        "configs/cameras/tum_openni_default.yaml");
+  frame_cmd->add_option("--config", frame.config, "Settings (YAML)")->capture_default_str();
+  frame_cmd->add_option("--patterns", frame.patterns, "Object graph patterns (YAML)")->capture_default_str();
+  frame_cmd->add_option("--out", frame.out, "Output folder for model.json, model.ply, overlay.png")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   // Progress and log lines go to stderr; stdout carries only the command's results.
   spdlog::set_default_logger(spdlog::stderr_color_mt("planemap"));
@@ -46,6 +61,7 @@ int main(int argc, char** argv) {
   try {
     if (render_cmd->parsed()) return planemap::RunRender(render);
     if (inspect_cmd->parsed()) return planemap::RunInspect(inspect);
+    if (frame_cmd->parsed()) return planemap::RunFrame(frame);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());
     return 1;

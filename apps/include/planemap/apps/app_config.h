@@ -3,6 +3,7 @@
 #include <string>
 
 #include "planemap/core/config.h"
+#include "planemap/frontend/frontend.h"
 #include "planemap/io/tum_sequence.h"
 #include "planemap/sim/virtual_camera.h"
 
@@ -11,11 +12,13 @@ namespace planemap {
 struct AppConfig {
   DatasetConfig dataset;
   sim::RenderConfig render;
+  FrontendConfig frontend;
 
   template <class V>
   void VisitFields(V&& v) {
     v("dataset", dataset);
     v("render", render);
+    v("frontend", frontend);
   }
 };
 

@@ -23,7 +23,20 @@ struct InspectOptions {
   int max_frames = -1;
 };
 
+struct FrameOptions {
+  std::string sequence;  // a TUM-layout folder ...
+  int index = 0;         // ... and the frame in it
+  std::string depth;     // or a depth PNG (and optional colour PNG)
+  std::string color;
+  std::string pcd;       // or an organized PCD cloud (camera frame, metres)
+  std::string camera;    // empty: the sequence's camera.yaml, else the TUM/OpenNI default
+  std::string config = "configs/default.yaml";
+  std::string patterns = "configs/patterns.yaml";
+  std::string out = "out/frame";  // overlay.png, model.ply, model.json
+};
+
 int RunRender(const RenderOptions& options);
+int RunFrame(const FrameOptions& options);
 int RunInspect(const InspectOptions& options);
 
 }  // namespace planemap
