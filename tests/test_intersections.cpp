@@ -125,6 +125,28 @@ TEST(Intersections, EdgesLeavingTheImageAreCut) {
   EXPECT_GE(f.cut, 1);
 }
 
+TEST(Intersections, PlaneWithNoPointsBesideTheEdgeGivesNoEdgeNotACrash) {
+  // Regression (found on OSD learn0): plane b's inliers all lie on the intersection line, so it
+  // has no points in the band beside the edge; this once sized a vector from an empty range.
+  DetectedPlane a, b;
+  a.id = 0;
+  b.id = 1;
+  a.plane = {Eigen::Vector3d(0, 0, -1), 2.0};   // z = 2
+  b.plane = {Eigen::Vector3d(-1, 0, 0), 0.0};   // x = 0
+  Cloud cloud(640, 480);
+  for (int i = 0; i < 200; ++i) {
+    cloud[i].x = 0.0f;
+    cloud[i].y = 0.001f * i;
+    cloud[i].z = 2.0f;
+    b.inliers.push_back(i);
+    cloud[1000 + i].x = 0.05f;  // plane a: 5 cm from plane b, inside its band
+    cloud[1000 + i].y = 0.001f * i;
+    cloud[1000 + i].z = 2.0f;
+    a.inliers.push_back(1000 + i);
+  }
+  EXPECT_TRUE(FindIntersections({a, b}, cloud, XtionCamera(), IntersectionConfig{}).empty());
+}
+
 TEST(Intersections, ParallelPlanesDoNotIntersect) {
   // Two parallel planes 1 cm apart sharing pixels would pass the distance test; the angle test
   // keeps them apart.

@@ -3,12 +3,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include <pcl/io/pcd_io.h>
-
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/core/error.h"
 #include "planemap/frontend/frontend.h"
+#include "planemap/frontend/pcd_source.h"
 #include "planemap/io/frame_model_io.h"
 #include "planemap/io/image_io.h"
 #include "planemap/io/tum_sequence.h"
@@ -24,31 +23,6 @@ CameraIntrinsics ChooseCamera(const FrameOptions& options) {
     if (const auto stored = TumSequence::StoredCamera(options.sequence)) return *stored;
   }
   return LoadCameraIntrinsics(ResolveConfigPath("configs/cameras/tum_openni_default.yaml"));
-}
-
-// An organized PCD (e.g. the OSD boxes): its points as the frame's cloud, its colours as the image.
-Cloud::Ptr LoadPcd(const std::string& file, const CameraIntrinsics& camera, ColorImage* color) {
-  pcl::PointCloud<pcl::PointXYZRGBA> raw;
-  if (!fs::exists(file) || pcl::io::loadPCDFile(file, raw) != 0) ThrowInputError(file, 0, "cannot read PCD file");
-  if (static_cast<int>(raw.width) != camera.width || static_cast<int>(raw.height) != camera.height) {
-    ThrowInputError(file, 0, "cloud is " + std::to_string(raw.width) + "x" + std::to_string(raw.height) +
-                                 " but the camera is " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
-                                 " (an organized cloud is needed)");
-  }
-  auto cloud = std::make_shared<Cloud>(raw.width, raw.height);
-  cloud->is_dense = false;
-  *color = ColorImage(camera.width, camera.height);
-  for (size_t i = 0; i < raw.size(); ++i) {
-    const auto& p = raw[i];
-    auto& q = (*cloud)[i];
-    const bool valid = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0;
-    q.x = valid ? p.x : std::numeric_limits<float>::quiet_NaN();
-    q.y = valid ? p.y : std::numeric_limits<float>::quiet_NaN();
-    q.z = valid ? p.z : std::numeric_limits<float>::quiet_NaN();
-    q.r = p.r, q.g = p.g, q.b = p.b;
-    color->pixels()[i] = {p.r, p.g, p.b};
-  }
-  return cloud;
 }
 
 }  // namespace
@@ -76,7 +50,9 @@ int RunFrame(const FrameOptions& options) {
     if (!options.color.empty()) frame.color = ReadColorPng(options.color, camera);
     source = options.depth;
   } else {
-    cloud = LoadPcd(options.pcd, camera, &frame.color);
+    PcdFrame pcd = LoadOrganizedPcd(options.pcd, camera);
+    cloud = pcd.cloud;
+    frame.color = std::move(pcd.color);
     source = options.pcd;
   }
   if (!cloud) cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);

@@ -55,6 +55,7 @@ struct Interval {
 std::optional<Interval> SharedSpan(const std::vector<Eigen::Vector3d>& points_a,
                                    const std::vector<Eigen::Vector3d>& points_b, const Eigen::Vector3d& origin,
                                    const Eigen::Vector3d& direction, const IntersectionConfig& c) {
+  if (points_a.empty() || points_b.empty()) return std::nullopt;
   const double bin = c.max_gap / 2.0;
   double t_min = 1e30, t_max = -1e30;
   for (const auto* set : {&points_a, &points_b}) {
