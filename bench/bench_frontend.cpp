@@ -2,7 +2,8 @@
 // frames the peers a user would pick instead of our organized segmenter: PCL's SAC_MSAC loop (our
 // `msac` reference), PCL's OrganizedMultiPlaneSegmentation (with integral-image normals) and
 // OpenCV's rgbd::RgbdPlane. Recall = labelled surfaces (>= 1000 valid pixels) matched by a plane
-// with IoU >= 0.5. One thread. Run: ./build/bench/bench_frontend [--benchmark_format=json]
+// with IoU >= 0.5. Also the whole frontend per frame. One thread.
+// Run: ./build/bench/bench_frontend [--benchmark_format=json]
 #include <cstdio>
 #include <map>
 
@@ -12,6 +13,7 @@
 #include <pcl/features/integral_image_normal.h>
 #include <pcl/segmentation/organized_multi_plane_segmentation.h>
 
+#include "planemap/frontend/frontend.h"
 #include "planemap/frontend/organized_cloud.h"
 #include "planemap/frontend/plane_evaluation.h"
 #include "planemap/frontend/plane_segmenter.h"
@@ -163,7 +165,21 @@ void BM_OpenCvRgbdPlane(benchmark::State& state) {
   });
 }
 
+// The whole frontend: depth to cloud, planes, intersections, graph, objects, classes, sizes.
+void BM_Frontend(benchmark::State& state) {
+  const Frames& data = Shared();
+  const Frontend frontend(data.camera, FrontendConfig{}, LoadPatterns(Config("patterns.yaml")));
+  size_t k = 0, objects = 0;
+  for (auto _ : state) {
+    const FrameModel model = frontend.Process(data.frames[k++ % data.frames.size()].rgbd);
+    objects += model.objects.size();
+    benchmark::DoNotOptimize(model.objects.data());
+  }
+  state.counters["objects_per_frame"] = static_cast<double>(objects) / k;
+}
+
 BENCHMARK(BM_Cloud)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Frontend)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Organized)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PclOrganizedMultiPlane)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OpenCvRgbdPlane)->Unit(benchmark::kMillisecond);
@@ -186,7 +202,8 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     for (const auto& [name, recall] : recall_) {
       std::printf("  %-28s %9.2f %11.1fx %8.3f\n", name.c_str(), ms_.at(name), ms_.at(name) / ms_.at("BM_Organized"), recall);
     }
-    std::printf("  depth to cloud: %.2f ms/frame\n", ms_.at("BM_Cloud"));
+    std::printf("  depth to cloud: %.2f ms/frame; whole frontend (cloud to classified objects): %.2f ms/frame\n",
+                ms_.at("BM_Cloud"), ms_.at("BM_Frontend"));
   }
 
  private:

@@ -20,28 +20,36 @@ struct Box3 {
   }
 };
 
-// Eqs. (2)-(5): inliers of `own` within d_thresh of both planes and farther than d_min from both.
-void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other, const Cloud& cloud,
-                       const IntersectionConfig& c, std::vector<Eigen::Vector3d>* points) {
-  for (int i : own.inliers) {
-    const Eigen::Vector3d p = PointAt(cloud, i);
-    const double d_own = std::abs(own.plane.SignedDistance(p));     // eq. (2) / (4)
-    const double d_other = std::abs(other.plane.SignedDistance(p)); // eq. (3) / (5)
-    if (d_own < c.d_thresh && d_other < c.d_thresh && d_own >= c.d_min && d_other >= c.d_min) points->push_back(p);
+// A pixel window: only inliers inside it can lie near the other plane (a speed-up, nothing more).
+struct Window {
+  int u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+};
+
+// Calls fn(point) for each inlier of `plane` inside `window` (inliers are sorted by pixel index).
+template <typename Fn>
+void ForInliersIn(const DetectedPlane& plane, const Window& window, const Cloud& cloud, Fn&& fn) {
+  const int w = static_cast<int>(cloud.width);
+  auto it = plane.inliers.begin();
+  for (int v = window.v0; v <= window.v1 && it != plane.inliers.end(); ++v) {
+    it = std::lower_bound(it, plane.inliers.end(), v * w + window.u0);
+    for (const int end = v * w + window.u1; it != plane.inliers.end() && *it <= end; ++it) fn(PointAt(cloud, *it));
   }
 }
 
-// Inliers of `own` in a band beside the edge zone: from d_thresh to band_width away from `other`.
-// Their extent along the line is the plane's own extent there, untouched by pixels the noise
-// moved between the two planes near the line.
-void CollectBandPoints(const DetectedPlane& own, const DetectedPlane& other, const Cloud& cloud,
-                       const IntersectionConfig& c, std::vector<Eigen::Vector3d>* points) {
-  for (int i : own.inliers) {
-    const Eigen::Vector3d p = PointAt(cloud, i);
-    const double d_other = std::abs(other.plane.SignedDistance(p));
-    if (d_other >= c.d_thresh && d_other < c.band_width) points->push_back(p);
-  }
+// Eqs. (2)-(5): inliers of `own` within d_thresh of both planes and farther than d_min from both;
+// and (band) inliers of `own` from d_thresh to band_width away from `other`.
+void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other, const Window& window, const Cloud& cloud,
+                       const IntersectionConfig& c, std::vector<Eigen::Vector3d>* points, std::vector<Eigen::Vector3d>* band) {
+  ForInliersIn(own, window, cloud, [&](const Eigen::Vector3d& p) {
+    const double d_own = std::abs(own.plane.SignedDistance(p));     // eq. (2) / (4)
+    const double d_other = std::abs(other.plane.SignedDistance(p)); // eq. (3) / (5)
+    if (d_own < c.d_thresh && d_other < c.d_thresh && d_own >= c.d_min && d_other >= c.d_min) points->push_back(p);
+    if (d_other >= c.d_thresh && d_other < c.band_width) band->push_back(p);
+  });
 }
+
+// The band points' extent along the line is the plane's own extent there, untouched by pixels
+// the noise moved between the two planes near the line.
 
 struct Interval {
   double low = 0.0, high = 0.0;  // along the line [m]
@@ -107,9 +115,10 @@ std::optional<Interval> SharedSpan(const std::vector<Eigen::Vector3d>& points_a,
       if (x >= run_low && x <= run_high) t.push_back(x);
     }
     if (t.empty()) return false;
-    std::sort(t.begin(), t.end());
     const size_t trim = std::min(t.size() / 2, static_cast<size_t>(c.end_trim_fraction * t.size()));
+    std::nth_element(t.begin(), t.begin() + trim, t.end());
     *low = t[trim];
+    std::nth_element(t.begin(), t.end() - 1 - trim, t.end());
     *high = t[t.size() - 1 - trim];
     return true;
   };
@@ -180,15 +189,35 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Clo
 std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
                                          const CameraIntrinsics& camera, const IntersectionConfig& c) {
   std::vector<Box3> boxes(planes.size());
+  std::vector<Window> pixels(planes.size(), Window{1 << 30, -1, 1 << 30, -1});
   std::vector<int> plane_of_pixel(cloud.size(), -1);
+  const int w = static_cast<int>(cloud.width);
   for (size_t k = 0; k < planes.size(); ++k) {
+    Eigen::Vector3f low = Eigen::Vector3f::Constant(1e30f), high = -low;
+    Window& win = pixels[k];
     for (int i : planes[k].inliers) {
-      const Eigen::Vector3d p = PointAt(cloud, i);
-      boxes[k].low = boxes[k].low.cwiseMin(p);
-      boxes[k].high = boxes[k].high.cwiseMax(p);
+      const Eigen::Vector3f p = cloud[i].getVector3fMap();
+      low = low.cwiseMin(p);
+      high = high.cwiseMax(p);
       plane_of_pixel[i] = static_cast<int>(k);
+      const int u = i % w;
+      win.u0 = std::min(win.u0, u), win.u1 = std::max(win.u1, u);
     }
+    if (!planes[k].inliers.empty()) {  // sorted by pixel index: first and last give the rows
+      win.v0 = planes[k].inliers.front() / w;
+      win.v1 = planes[k].inliers.back() / w;
+    }
+    boxes[k].low = low.cast<double>();
+    boxes[k].high = high.cast<double>();
   }
+  // Plane k's pixel box grown by band_width seen at its nearest depth, clipped to the image.
+  auto grown = [&](size_t k) {
+    const int margin = 2 + static_cast<int>(std::ceil(c.band_width * camera.fx / std::max(boxes[k].low.z(), 0.1)));
+    Window win = pixels[k];
+    win.u0 = std::max(0, win.u0 - margin), win.u1 = std::min(w - 1, win.u1 + margin);
+    win.v0 = std::max(0, win.v0 - margin), win.v1 = std::min(static_cast<int>(cloud.height) - 1, win.v1 + margin);
+    return win;
+  };
   const double max_cos = std::cos(c.min_angle_deg * kDegToRad);
   std::vector<PlaneEdge> edges;
   for (size_t a = 0; a < planes.size(); ++a) {
@@ -197,11 +226,9 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       const Plane& pb = planes[b].plane;
       if (std::abs(pa.normal.dot(pb.normal)) > max_cos || !boxes[a].Near(boxes[b], c.d_thresh)) continue;
       std::vector<Eigen::Vector3d> points_a, points_b, band_a, band_b;
-      CollectEdgePoints(planes[a], planes[b], cloud, c, &points_a);
-      CollectEdgePoints(planes[b], planes[a], cloud, c, &points_b);
+      CollectEdgePoints(planes[a], planes[b], grown(b), cloud, c, &points_a, &band_a);
+      CollectEdgePoints(planes[b], planes[a], grown(a), cloud, c, &points_b, &band_b);
       if (static_cast<int>(points_a.size() + points_b.size()) < c.min_points) continue;
-      CollectBandPoints(planes[a], planes[b], cloud, c, &band_a);
-      CollectBandPoints(planes[b], planes[a], cloud, c, &band_b);
 
       // The intersection line: direction n_a x n_b through the point nearest the origin.
       const Eigen::Vector3d direction = pa.normal.cross(pb.normal).normalized();
