@@ -53,41 +53,61 @@ int Find(std::vector<int>& parent, int i) {
   return i;
 }
 
-}  // namespace
+// Regions grown on a grid of cells over the usable pixels (steps 1-3).
+struct Pass {
+  int cs = 0, cw = 0, ch = 0;
+  std::vector<Cell> cells;      // cells[i].region: index into regions, or < 0
+  std::vector<Region> regions;  // merged regions
+};
 
-SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
-  const OrganizedSegmenterConfig& c = config_.organized;
-  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height), cs = c.cell_size;
+Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int cell_size,
+              const OrganizedSegmenterConfig& c) {
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height), cs = cell_size;
   const int cw = (w + cs - 1) / cs, ch = (h + cs - 1) / cs;
   auto point = [&](int u, int v) { return cloud.points[static_cast<size_t>(v) * w + u]; };
+  auto ok = [&](int u, int v) { return usable[static_cast<size_t>(v) * w + u] != 0; };
+  Pass pass;
+  pass.cs = cs;
+  pass.cw = cw;
+  pass.ch = ch;
+  std::vector<Cell>& cells = pass.cells;
+  cells.resize(static_cast<size_t>(cw) * ch);
+
+  // Usable pixels per cell, counted in one sweep: cells too empty are skipped unread.
+  std::vector<int> usable_count(cells.size(), 0);
+  for (int v = 0; v < h; ++v) {
+    const std::uint8_t* row = &usable[static_cast<size_t>(v) * w];
+    int* counts = &usable_count[static_cast<size_t>(v / cs) * cw];
+    for (int cx = 0, u = 0; cx < cw; ++cx) {
+      for (const int end = std::min(w, u + cs); u < end; ++u) counts[cx] += row[u];
+    }
+  }
 
   // 1. Fit a plane to every cell that is full enough and free of depth jumps.
-  std::vector<Cell> cells(static_cast<size_t>(cw) * ch);
-  int valid_points = 0;
   for (int cy = 0; cy < ch; ++cy) {
     for (int cx = 0; cx < cw; ++cx) {
       Cell& cell = cells[static_cast<size_t>(cy) * cw + cx];
       const int u0 = cx * cs, v0 = cy * cs, u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
+      if (usable_count[static_cast<size_t>(cy) * cw + cx] < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0)) continue;
       bool jump = false;
       // Plain sums of the cell's points (the hot loop of the segmenter), then moments.
       double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
       for (int v = v0; v < v1; ++v) {
         for (int u = u0; u < u1; ++u) {
+          if (!ok(u, v)) continue;
           const auto& p = point(u, v);
-          if (!IsValidPoint(p)) continue;
           const double x = p.x, y = p.y, z = p.z;
           n += 1;
           sx += x; sy += y; sz += z;
           sxx += x * x; sxy += x * y; sxz += x * z; syy += y * y; syz += y * z; szz += z * z;
           const float limit = static_cast<float>(c.cell_jump_relative) * p.z;
-          if (u + 1 < u1 && IsValidPoint(point(u + 1, v)) && std::abs(point(u + 1, v).z - p.z) > limit) jump = true;
-          if (v + 1 < v1 && IsValidPoint(point(u, v + 1)) && std::abs(point(u, v + 1).z - p.z) > limit) jump = true;
+          if (u + 1 < u1 && ok(u + 1, v) && std::abs(point(u + 1, v).z - p.z) > limit) jump = true;
+          if (v + 1 < v1 && ok(u, v + 1) && std::abs(point(u, v + 1).z - p.z) > limit) jump = true;
         }
       }
       cell.moments.n = cell.moments.w = n;
       cell.moments.sum = Eigen::Vector3d(sx, sy, sz);
       cell.moments.sum_outer << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
-      valid_points += static_cast<int>(cell.moments.n);
       if (jump || cell.moments.n < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0) || cell.moments.n < 3) continue;
       cell.fit = Fit(cell.moments);
       const double z = cell.fit.centroid.z();
@@ -177,15 +197,26 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
   }
   for (Region& r : merged) r.fit = Fit(r.moments);
   for (Cell& cell : cells) cell.region = cell.region >= 0 ? root_index[Find(parent, cell.region)] : -1;
+  pass.regions = std::move(merged);
+  return pass;
+}
 
-  // 4. Assign every valid pixel to the nearest plane among those of its cell and the 8 cells
-  //    around it, if it is close enough: this takes back the pixels of edge and corner cells.
-  //    Pixels are visited in row order, so each plane's inliers come out sorted.
-  //    A pixel close enough to two planes (near their intersection, where the noise decides
-  //    which is nearer) stays an inlier of the nearer one but does not pull on its refit.
-  std::vector<std::vector<int>> inliers(merged.size());
-  std::vector<std::array<double, 10>> sums(merged.size());  // weighted w, x, y, z, xx, xy, xz, yy, yz, zz
-  std::vector<double> fit_count(merged.size(), 0.0);
+
+// 4. Assign every valid pixel to the nearest plane among those of its cell and the 8 cells
+//    around it, if it is close enough: this takes back the pixels of edge and corner cells.
+//    Pixels are visited in row order, so each plane's inliers come out sorted.
+//    A pixel close enough to two planes (near their intersection, where the noise decides
+//    which is nearer) stays an inlier of the nearer one but does not pull on its refit.
+// Step 4 on one pass: every usable pixel goes to the nearest plane among those of its cell and
+// the 8 cells around it, if close enough. Inliers of region r go to (*inliers)[offset + r].
+void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, const Pass& pass,
+                const OrganizedSegmenterConfig& c, size_t offset, std::vector<std::vector<int>>* inliers,
+                std::vector<std::array<double, 10>>* sums, std::vector<double>* fit_count) {
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
+  const int cs = pass.cs, cw = pass.cw, ch = pass.ch;
+  const std::vector<Cell>& cells = pass.cells;
+  const std::vector<Region>& merged = pass.regions;
+  auto point = [&](int u, int v) { return cloud.points[static_cast<size_t>(v) * w + u]; };
   std::vector<std::array<int, 9>> candidates(cells.size());
   std::vector<int> candidate_count(cells.size(), 0);
   for (int cy = 0; cy < ch; ++cy) {
@@ -207,9 +238,12 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     for (int u = 0; u < w; ++u) {
       const int cell = (v / cs) * cw + u / cs;
       const int count = candidate_count[cell];
-      if (count == 0) continue;
+      if (count == 0) {
+        u = std::min(w, (u / cs + 1) * cs) - 1;  // skip the rest of this cell's span
+        continue;
+      }
+      if (!usable[static_cast<size_t>(v) * w + u]) continue;
       const auto& p = point(u, v);
-      if (!IsValidPoint(p)) continue;
       const double x = p.x, y = p.y, z = p.z;
       const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, z);
       double best = limit;
@@ -224,17 +258,44 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
         }
       }
       if (best_region < 0) continue;
-      inliers[best_region].push_back(v * w + u);
+      (*inliers)[offset + best_region].push_back(v * w + u);
       if (close_planes > 1) continue;
       const double wt = DepthNoiseWeight(z);
-      auto& s = sums[best_region];
+      auto& s = (*sums)[offset + best_region];
       s[0] += wt; s[1] += wt * x; s[2] += wt * y; s[3] += wt * z;
       s[4] += wt * x * x; s[5] += wt * x * y; s[6] += wt * x * z; s[7] += wt * y * y; s[8] += wt * y * z; s[9] += wt * z * z;
-      fit_count[best_region] += 1;
+      (*fit_count)[offset + best_region] += 1;
     }
   }
-  std::vector<PointMoments> fit_moments(merged.size());
-  for (size_t r = 0; r < merged.size(); ++r) {
+}
+
+}  // namespace
+
+SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
+  const OrganizedSegmenterConfig& c = config_.organized;
+  std::vector<std::uint8_t> usable(cloud.size());
+  int valid_points = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) valid_points += usable[i] = IsValidPoint(cloud[i]);
+
+  // Two passes: cells of cell_size, then cells half as large over the pixels the first left
+  // (small faces: thin panels, a box top seen at a grazing angle).
+  std::vector<std::vector<int>> inliers;
+  std::vector<std::array<double, 10>> sums;  // weighted w, x, y, z, xx, xy, xz, yy, yz, zz
+  std::vector<double> fit_count;
+  for (const int cell_size : {c.cell_size, std::max(4, c.cell_size / 2)}) {
+    const Pass pass = GrowPass(cloud, usable, cell_size, c);
+    const size_t offset = inliers.size();
+    inliers.resize(offset + pass.regions.size());
+    sums.resize(inliers.size(), std::array<double, 10>{});
+    fit_count.resize(inliers.size(), 0.0);
+    AssignPass(cloud, usable, pass, c, offset, &inliers, &sums, &fit_count);
+    for (size_t r = offset; r < inliers.size(); ++r) {  // kept planes' pixels are taken
+      if (static_cast<int>(inliers[r].size()) < config_.min_inliers) continue;
+      for (int i : inliers[r]) usable[i] = 0;
+    }
+  }
+  std::vector<PointMoments> fit_moments(inliers.size());
+  for (size_t r = 0; r < inliers.size(); ++r) {
     const auto& s = sums[r];
     fit_moments[r].n = fit_count[r];
     fit_moments[r].w = s[0];
