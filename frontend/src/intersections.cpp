@@ -195,12 +195,14 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
   for (size_t k = 0; k < planes.size(); ++k) {
     Eigen::Vector3f low = Eigen::Vector3f::Constant(1e30f), high = -low;
     Window& win = pixels[k];
-    for (int i : planes[k].inliers) {
+    int row_start = planes[k].inliers.empty() ? 0 : (planes[k].inliers.front() / w) * w;
+    for (int i : planes[k].inliers) {  // sorted by pixel index: the row advances, no division
       const Eigen::Vector3f p = cloud[i].getVector3fMap();
       low = low.cwiseMin(p);
       high = high.cwiseMax(p);
       plane_of_pixel[i] = static_cast<int>(k);
-      const int u = i % w;
+      while (i >= row_start + w) row_start += w;
+      const int u = i - row_start;
       win.u0 = std::min(win.u0, u), win.u1 = std::max(win.u1, u);
     }
     if (!planes[k].inliers.empty()) {  // sorted by pixel index: first and last give the rows

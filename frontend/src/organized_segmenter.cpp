@@ -60,7 +60,7 @@ struct Pass {
   std::vector<Region> regions;  // merged regions
 };
 
-Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int cell_size,
+Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int cell_size, bool first_pass,
               const OrganizedSegmenterConfig& c) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height), cs = cell_size;
   const int cw = (w + cs - 1) / cs, ch = (h + cs - 1) / cs;
@@ -73,9 +73,11 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
   std::vector<Cell>& cells = pass.cells;
   cells.resize(static_cast<size_t>(cw) * ch);
 
-  // Usable pixels per cell, counted in one sweep: cells too empty are skipped unread.
-  std::vector<int> usable_count(cells.size(), 0);
-  for (int v = 0; v < h; ++v) {
+  // Usable pixels per cell, counted in one sweep: cells too empty are skipped unread. The first
+  // pass (every valid pixel usable) needs no count: its cells are read anyway.
+  std::vector<int> usable_count(cells.size(), cs * cs);
+  if (!first_pass) std::fill(usable_count.begin(), usable_count.end(), 0);
+  for (int v = 0; v < h && !first_pass; ++v) {
     const std::uint8_t* row = &usable[static_cast<size_t>(v) * w];
     int* counts = &usable_count[static_cast<size_t>(v / cs) * cw];
     for (int cx = 0, u = 0; cx < cw; ++cx) {
@@ -283,7 +285,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
   std::vector<std::array<double, 10>> sums;  // weighted w, x, y, z, xx, xy, xz, yy, yz, zz
   std::vector<double> fit_count;
   for (const int cell_size : {c.cell_size, std::max(4, c.cell_size / 2)}) {
-    const Pass pass = GrowPass(cloud, usable, cell_size, c);
+    const Pass pass = GrowPass(cloud, usable, cell_size, cell_size == c.cell_size, c);
     const size_t offset = inliers.size();
     inliers.resize(offset + pass.regions.size());
     sums.resize(inliers.size(), std::array<double, 10>{});

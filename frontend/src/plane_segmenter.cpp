@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "planemap/frontend/msac_segmenter.h"
@@ -46,24 +47,30 @@ struct PixelBox {
 void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vector<DetectedPlane>* planes) {
   const double min_cos = std::cos(config.coplanar_max_angle_deg * M_PI / 180.0);
   const int w = static_cast<int>(cloud.width);
-  bool merged = true;
-  while (merged) {
-    merged = false;
-    std::vector<PixelBox> boxes(planes->size());
-    for (size_t k = 0; k < planes->size(); ++k) {
+  // Pixel boxes are computed only for pairs whose equations agree (few), and cached.
+  std::vector<std::optional<PixelBox>> boxes(planes->size());
+  auto box_of = [&](size_t k) -> const PixelBox& {
+    if (!boxes[k]) {
+      PixelBox b;
       for (int i : (*planes)[k].inliers) {
-        PixelBox& b = boxes[k];
         b.u0 = std::min(b.u0, i % w), b.u1 = std::max(b.u1, i % w);
         b.v0 = std::min(b.v0, i / w), b.v1 = std::max(b.v1, i / w);
       }
+      boxes[k] = b;
     }
+    return *boxes[k];
+  };
+  bool merged = true;
+  while (merged) {
+    merged = false;
     for (size_t a = 0; a < planes->size() && !merged; ++a) {
       for (size_t b = a + 1; b < planes->size() && !merged; ++b) {
         const DetectedPlane& pa = (*planes)[a];
         const DetectedPlane& pb = (*planes)[b];
-        if (pa.plane.normal.dot(pb.plane.normal) < min_cos || boxes[a].Gap(boxes[b]) > config.coplanar_max_gap) continue;
-        if (std::abs(pa.plane.SignedDistance(pb.centroid)) > config.coplanar_max_distance ||
-            std::abs(pb.plane.SignedDistance(pa.centroid)) > config.coplanar_max_distance) {
+        if (pa.plane.normal.dot(pb.plane.normal) < min_cos ||
+            std::abs(pa.plane.SignedDistance(pb.centroid)) > config.coplanar_max_distance ||
+            std::abs(pb.plane.SignedDistance(pa.centroid)) > config.coplanar_max_distance ||
+            box_of(a).Gap(box_of(b)) > config.coplanar_max_gap) {
           continue;
         }
         std::vector<int> inliers = pa.inliers;
@@ -71,6 +78,8 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
         std::sort(inliers.begin(), inliers.end());
         (*planes)[a] = FitDetectedPlane(cloud, std::move(inliers));
         planes->erase(planes->begin() + b);
+        boxes.erase(boxes.begin() + b);
+        boxes[a].reset();
         merged = true;
       }
     }
