@@ -17,12 +17,8 @@ namespace {
 
 using testing::DefaultScene;
 using testing::SourcePath;
+using testing::Median;
 using testing::XtionCamera;
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 Frontend MakeFrontend(const std::string& patterns = SourcePath("configs/patterns.yaml")) {
   return Frontend(XtionCamera(), FrontendConfig{}, LoadPatterns(patterns));

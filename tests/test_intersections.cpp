@@ -14,12 +14,8 @@
 namespace planemap {
 namespace {
 
+using testing::Median;
 using testing::XtionCamera;
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 // The true edge where two faces of a cuboid meet (face indices in kFaceNames order), in the world.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> TrueEdge(const sim::Cuboid& box, int face_a, int face_b) {

@@ -17,12 +17,8 @@ namespace planemap {
 namespace {
 
 using testing::DefaultScene;
+using testing::Median;
 using testing::XtionCamera;
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 struct Analysed {
   testing::SimFrame sim;

@@ -15,12 +15,8 @@
 namespace planemap {
 namespace {
 
+using testing::Median;
 using testing::XtionCamera;
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 std::vector<bool> ValidMask(const Cloud& cloud) {
   std::vector<bool> valid(cloud.size());

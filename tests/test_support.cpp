@@ -1,5 +1,6 @@
 #include "test_support.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
@@ -37,6 +38,12 @@ std::string TempDir::Write(const std::string& name, const std::string& content) 
   fs::create_directories(fs::path(file).parent_path());
   std::ofstream(file) << content;
   return file;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
 }
 
 double RotationErrorDeg(const Pose3& a, const Pose3& b) {

@@ -1,6 +1,7 @@
 #pragma once
 // Shared helpers of the test suite: paths, temporary folders, pose and plane matchers.
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -30,6 +31,9 @@ class TempDir {
  private:
   std::string path_;
 };
+
+// Median of a sample (the upper one of an even count); 0 for an empty sample.
+double Median(std::vector<double> values);
 
 // Rotation error [deg] and translation error [m] between two poses.
 double RotationErrorDeg(const Pose3& a, const Pose3& b);

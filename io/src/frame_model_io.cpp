@@ -4,10 +4,10 @@
 #include <fstream>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "planemap/core/error.h"
+#include "planemap/io/image_io.h"
 
 namespace planemap {
 namespace {
@@ -149,13 +149,14 @@ void WriteOverlayPng(const std::string& file, const ColorImage& color, const Fra
     }
     cv::putText(image, o.label, pixel(o.center) + cv::Point(8, -8), cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
   }
-  bool ok = false;
-  try {
-    ok = cv::imwrite(file, image);
-  } catch (const cv::Exception& e) {
-    ThrowInputError(file, 0, std::string("cannot write image: ") + e.what());
+  ColorImage out(camera.width, camera.height);
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      const cv::Vec3b& px = image.at<cv::Vec3b>(v, u);
+      out.at(u, v) = {px[2], px[1], px[0]};
+    }
   }
-  if (!ok) ThrowInputError(file, 0, "cannot write image");
+  WriteColorPng(file, out);
 }
 
 }  // namespace planemap
