@@ -30,7 +30,7 @@ FrameModel Frontend::Process(const Cloud& cloud) const {
   const Eigen::Vector3d up = model.floor >= 0 ? model.planes[model.floor].plane.normal : up_prior.normalized();
   // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
   MeasureObjects(cloud, config_.objects, up_prior, &model);
-  ClassifyObjects(cloud, patterns_, config_.objects, up, &model);
+  ClassifyObjects(patterns_, config_.objects, up, &model);
 
   if (model.planes.size() < 3) {
     model.reason = std::to_string(model.planes.size()) + " plane(s): a trihedral angle needs three";

@@ -101,7 +101,7 @@ double ObjectHeight(const Cloud& cloud, const FrameModel& model, const FrameObje
   return top - heights[j];
 }
 
-void ClassifyObjects(const Cloud& cloud, const PatternsConfig& patterns, const ObjectConfig& config,
+void ClassifyObjects(const PatternsConfig& patterns, const ObjectConfig& config,
                      const Eigen::Vector3d& up, FrameModel* model) {
   for (FrameObject& object : model->objects) {
     object.label = "unknown";
@@ -111,7 +111,7 @@ void ClassifyObjects(const Cloud& cloud, const PatternsConfig& patterns, const O
     for (int p : graph) orientation.push_back(Orientation(*model, p, up, config.orientation_tolerance_deg * kDegToRad));
     // The height is known when the top is seen or a vertical edge is complete; otherwise the
     // object may go on beyond the image and its height only bounds the true one from below.
-    const double height = ObjectHeight(cloud, *model, object, up);
+    const double height = object.height;
     bool height_known = object.dimension_complete[2];
     for (size_t g = 0; g < graph.size(); ++g) height_known = height_known || orientation[g] == "horizontal";
     for (const GraphPattern& pattern : patterns.patterns) {
@@ -201,7 +201,7 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
     object.grasp_sides.clear();
     object.grasp_side = -1;
     object.grasp_axis.setZero();
-    const double height = ObjectHeight(cloud, *model, object, up);
+    object.height = ObjectHeight(cloud, *model, object, up);
     double best_facing = -1.0;
     for (int p : object.planes) {
       const DetectedPlane& face = model->planes[p];
@@ -209,7 +209,7 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
       const int k = axis_of(face.plane.normal);
       if (k < 0 || k == 2) continue;
       const double span = object.dimensions[k];
-      if (span < config.hand_span_min || span > config.hand_span_max || height > config.grasp_max_height) continue;
+      if (span < config.hand_span_min || span > config.hand_span_max || object.height > config.grasp_max_height) continue;
       object.grasp_sides.push_back(p);
       const double facing = face.plane.normal.dot(-face.centroid.normalized());
       if (facing > best_facing) {

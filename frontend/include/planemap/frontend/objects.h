@@ -73,10 +73,10 @@ double ObjectHeight(const Cloud& cloud, const FrameModel& model, const FrameObje
 // Sets each object's label: the class of the first matching pattern, else "unknown". Needs the
 // objects measured first: a height limit only rules a class out when the height is known (the
 // top is seen or the vertical edge is complete), not when the object runs out of the image.
-void ClassifyObjects(const Cloud& cloud, const PatternsConfig& patterns, const ObjectConfig& config,
+void ClassifyObjects(const PatternsConfig& patterns, const ObjectConfig& config,
                      const Eigen::Vector3d& up, FrameModel* model);
 
-// Sets each object's axes, dimensions, centre (eq. 7) and grasp sides and axis.
+// Sets each object's axes, dimensions, height, centre (eq. 7) and grasp sides and axis.
 void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen::Vector3d& up, FrameModel* model);
 
 }  // namespace planemap
