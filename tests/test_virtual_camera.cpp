@@ -10,11 +10,13 @@
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
 #include "planemap/sim/walk.h"
+#include "sim_views.h"
 #include "test_support.h"
 
 namespace planemap::sim {
 namespace {
 
+using planemap::testing::LookAt;
 using planemap::testing::SourcePath;
 
 constexpr double kDegToRad = M_PI / 180.0;
@@ -25,19 +27,6 @@ RenderConfig Exact() {
   RenderConfig config;
   config.add_noise = false;
   return config;
-}
-
-// A camera at `eye` looking at `target` with world z up (optical frame: z forward, y down).
-Pose3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  Pose3 T = Pose3::Identity();
-  T.linear().col(0) = x;
-  T.linear().col(1) = y;
-  T.linear().col(2) = z;
-  T.translation() = eye;
-  return T;
 }
 
 // Viewpoints: the start of the default walk, its end near the box, and orbits around the box at

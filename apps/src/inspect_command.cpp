@@ -4,6 +4,7 @@
 
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
+#include "planemap/apps/depth_summary.h"
 #include "planemap/io/tum_sequence.h"
 
 namespace planemap {
@@ -19,18 +20,11 @@ int RunInspect(const InspectOptions& options) {
   const size_t n = options.max_frames >= 0 ? std::min<size_t>(options.max_frames, sequence.size()) : sequence.size();
 
   size_t with_groundtruth = 0;
-  double valid_sum = 0.0, z_min = 1e9, z_max = 0.0;
+  DepthSummary depth;
   for (size_t i = 0; i < n; ++i) {
     const RgbdFrame frame = sequence.LoadFrame(i);  // throws naming the image on bad input
     if (frame.T_world_camera) ++with_groundtruth;
-    size_t valid = 0;
-    for (float z : frame.depth.pixels()) {
-      if (!IsValidDepth(z)) continue;
-      ++valid;
-      z_min = std::min<double>(z_min, z);
-      z_max = std::max<double>(z_max, z);
-    }
-    valid_sum += static_cast<double>(valid) / frame.depth.size();
+    depth.Add(frame.depth);
   }
   const double span = sequence.entry(sequence.size() - 1).depth.stamp - sequence.entry(0).depth.stamp;
   std::printf("planemap inspect: %s\n", options.sequence.c_str());
@@ -41,7 +35,10 @@ int RunInspect(const InspectOptions& options) {
   std::printf("  camera: fx %.1f fy %.1f cx %.1f cy %.1f, %dx%d, %.0f depth units per metre\n", camera.fx, camera.fy,
               camera.cx, camera.cy, camera.width, camera.height, camera.depth_scale);
   std::printf("  labels: %s\n", sequence.has_labels() ? "yes" : "no");
-  if (n > 0) std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", 100.0 * valid_sum / n, z_min, z_max);
+  if (n > 0) {
+    std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", depth.MeanValidPercent(), depth.z_min,
+                depth.z_max);
+  }
   return 0;
 }
 

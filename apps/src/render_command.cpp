@@ -8,6 +8,7 @@
 
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
+#include "planemap/apps/depth_summary.h"
 #include "planemap/core/error.h"
 #include "planemap/io/tum_sequence.h"
 #include "planemap/sim/scene.h"
@@ -18,21 +19,6 @@ namespace fs = std::filesystem;
 
 namespace planemap {
 namespace {
-
-struct DepthStats {
-  double valid_fraction_sum = 0.0;
-  double z_min = 1e9, z_max = 0.0;
-  void Add(const DepthImage& depth) {
-    size_t valid = 0;
-    for (float z : depth.pixels()) {
-      if (!IsValidDepth(z)) continue;
-      ++valid;
-      z_min = std::min<double>(z_min, z);
-      z_max = std::max<double>(z_max, z);
-    }
-    valid_fraction_sum += static_cast<double>(valid) / depth.size();
-  }
-};
 
 void WriteMetadata(const std::string& out, const std::string& scene_file, const sim::Scene& scene,
                    const AppConfig& config) {
@@ -63,7 +49,7 @@ int RunRender(const RenderOptions& options) {
   TumSequenceWriter writer(options.out, camera, /*with_labels=*/true);
   WriteMetadata(options.out, scene_file, scene, config);
 
-  DepthStats stats;
+  DepthSummary stats;
   const auto start = std::chrono::steady_clock::now();
   const size_t report_every = std::max<size_t>(1, trajectory.size() / 10);
   for (size_t k = 0; k < trajectory.size(); ++k) {
@@ -95,7 +81,7 @@ int RunRender(const RenderOptions& options) {
               scene.surfaces.size(), scene.markers.size());
   std::printf("  camera %dx%d fx %.1f, noise %s, seed %d\n", camera.width, camera.height, camera.fx,
               config.render.add_noise ? "on" : "off", config.render.seed);
-  std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", 100.0 * stats.valid_fraction_sum / n,
+  std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", stats.MeanValidPercent(),
               stats.z_min, stats.z_max);
   std::printf("  files: rgb/ depth/ label/ rgb.txt depth.txt label.txt associations.txt groundtruth.txt\n");
   std::printf("         scene.yaml scene_groundtruth.yaml camera.yaml config.yaml\n");

@@ -314,13 +314,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
       planes.push_back(FitDetectedPlane(cloud, std::move(inliers[r])));
       continue;
     }
-    DetectedPlane plane;
-    plane.plane = fit.plane;
-    plane.centroid = fit.centroid;
-    plane.covariance = fit.covariance;
-    plane.rms = fit.rms;
-    plane.inliers = std::move(inliers[r]);
-    planes.push_back(std::move(plane));
+    planes.push_back(MakeDetectedPlane(fit, std::move(inliers[r])));
   }
   return FinishSegmentation(cloud, std::move(planes), valid_points, config_);
 }

@@ -23,7 +23,10 @@ DetectedPlane FitDetectedPlane(const Cloud& cloud, std::vector<int> inliers) {
     const auto& p = cloud[i];
     moments.Add(Eigen::Vector3d(p.x, p.y, p.z), DepthNoiseWeight(p.z));
   }
-  const PlaneFit fit = FitPlane(moments);
+  return MakeDetectedPlane(FitPlane(moments), std::move(inliers));
+}
+
+DetectedPlane MakeDetectedPlane(const PlaneFit& fit, std::vector<int> inliers) {
   DetectedPlane plane;
   plane.plane = fit.plane;
   plane.centroid = fit.centroid;

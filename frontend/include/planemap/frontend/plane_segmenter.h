@@ -111,6 +111,9 @@ std::unique_ptr<PlaneSegmenter> MakePlaneSegmenter(const SegmenterConfig& config
 SegmentationResult FinishSegmentation(const Cloud& cloud, std::vector<DetectedPlane> planes, int valid_points,
                                       const SegmenterConfig& config);
 
+// A detected plane from a fit and the pixels it was fitted to (or that belong to it).
+DetectedPlane MakeDetectedPlane(const PlaneFit& fit, std::vector<int> inliers);
+
 // Refits a plane by least squares on the given pixels of the cloud, each weighted by the inverse
 // of its depth noise variance (DepthNoiseWeight).
 DetectedPlane FitDetectedPlane(const Cloud& cloud, std::vector<int> inliers);
