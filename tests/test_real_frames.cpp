@@ -116,6 +116,10 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
       for (int i : truth) along.push_back(found->axes.col(k).dot((*pcd.cloud)[i].getVector3fMap().cast<double>()));
       const double measured = Percentile(along, 0.99) - Percentile(along, 0.01);
       f->dimension_error.push_back(std::abs(found->dimensions[k] - measured));
+      if (std::abs(found->dimensions[k] - measured) > 0.01) {
+        std::printf("learn%d box %d: dimension %d is %.1f mm, labelled extent %.1f mm\n", index, box, k,
+                    1000 * found->dimensions[k], 1000 * measured);
+      }
       ++f->complete_dimensions;
     }
   }
@@ -137,11 +141,13 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   EXPECT_EQ(f.table_found, f.scenes);
   EXPECT_EQ(f.table_in_object, 0);
   // Issue 3 asks that every box showing its top and two sides be found, with all faces within
-  // 5 deg of perpendicular. On these real scenes that holds for 3 of 10 boxes so far (stacked
-  // and touching boxes are joined or missed), and the worst face is 5.9 deg off (a 1000-pixel
-  // side of a stacked box); both are printed above and are open work. What is asserted: the
-  // table, and that what is found is right:
-  ASSERT_GE(f.found, 3);
+  // 5 deg of perpendicular. On these real scenes that holds for 7 of 10 boxes: the misses are a
+  // back box whose side is a 10-pixel grazing strip (learn0), a box whose top the segmenter
+  // merged with a neighbour's (learn13), and a box whose vertical corner is hidden under the
+  // box stacked on it (learn18). The worst face is 6.7 deg off (a 600-pixel top mostly hidden by
+  // the box on it). Both are printed above and are open work. What is asserted: the table, the
+  // boxes found so far, and that what is found is right:
+  ASSERT_GE(f.found, 7);
   EXPECT_GE(*std::min_element(f.iou.begin(), f.iou.end()), 0.8);
   EXPECT_LE(median(f.perpendicular_error_deg), 5.0) << "deg";
   EXPECT_LE(median(f.dimension_error), 0.01) << "m";

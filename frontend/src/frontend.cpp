@@ -22,12 +22,17 @@ FrameModel Frontend::Process(const Cloud& cloud) const {
     model.reason = segmentation.reason;
     return model;
   }
-  // 3. Real intersections, eqs. (2)-(6).
-  model.edges = FindIntersections(model.planes, cloud, camera_, config_.intersections);
-  // 4. Plane graph, trihedral angles, floor, objects aggregated angle by angle.
-  BuildPlaneGraph(cloud, config_.graph, &model);
+  // 3. Real intersections, eqs. (2)-(6); the floor and walls first, which end the edges that run
+  //    into them.
+  FindStructure(cloud, config_.graph, &model);
   const Eigen::Vector3d up_prior(config_.graph.up_in_camera[0], config_.graph.up_in_camera[1], config_.graph.up_in_camera[2]);
   const Eigen::Vector3d up = model.floor >= 0 ? model.planes[model.floor].plane.normal : up_prior.normalized();
+  EdgeTerminators terminators;
+  terminators.structure = model.structure;
+  terminators.up = up;
+  model.edges = FindIntersections(model.planes, cloud, camera_, config_.intersections, &terminators);
+  // 4. Plane graph, trihedral angles, objects aggregated angle by angle.
+  BuildPlaneGraph(cloud, config_.graph, &model);
   // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
   MeasureObjects(cloud, config_.objects, up_prior, &model);
   ClassifyObjects(patterns_, config_.objects, up, &model);

@@ -48,6 +48,20 @@ void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other, con
   });
 }
 
+// Whether most of `band` (one plane's points beside the edge) within [low, high] along the line
+// lies behind `other` (normals face the camera): true on a solid's own edge.
+bool MostlyBehind(const std::vector<Eigen::Vector3d>& band, const Plane& other, const Eigen::Vector3d& origin,
+                  const Eigen::Vector3d& direction, double low, double high) {
+  int behind = 0, total = 0;
+  for (const Eigen::Vector3d& p : band) {
+    const double t = direction.dot(p - origin);
+    if (t < low || t > high) continue;
+    ++total;
+    behind += other.SignedDistance(p) < 0.0;
+  }
+  return 2 * behind > total;
+}
+
 // The band points' extent along the line is the plane's own extent there, untouched by pixels
 // the noise moved between the two planes near the line.
 
@@ -147,7 +161,14 @@ std::optional<Interval> SharedSpan(const std::vector<Eigen::Vector3d>& points_a,
 // end (the floor under a box's vertical edge ends that edge; a box in front of it hides it).
 bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Cloud& cloud,
            const std::vector<int>& plane_of_pixel, const std::vector<DetectedPlane>& planes,
-           const CameraIntrinsics& camera, const IntersectionConfig& c) {
+           const CameraIntrinsics& camera, const IntersectionConfig& c, const EdgeTerminators* terminators) {
+  // Whether plane `owner`, crossing the edge at its end, ends it.
+  auto terminates = [&](int owner) {
+    if (terminators == nullptr) return true;
+    if (owner < static_cast<int>(terminators->structure.size()) && terminators->structure[owner]) return true;
+    const double cos_tilt = std::cos(terminators->max_tilt_deg * kDegToRad);
+    return planes[owner].plane.normal.dot(terminators->up) > cos_tilt && outward.dot(terminators->up) < -cos_tilt;
+  };
   if (end.z() <= 0.0) return true;
   const double step = end.z() / camera.fx;  // about one pixel at the end's depth [m]
   // The edge's extent is measured on bands up to band_width beside it, which leave the image
@@ -170,14 +191,14 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Clo
     if (k < 2) continue;  // the end pixel itself and its neighbour are on the edge
     const int i = v * camera.width + u;
     if (!IsValidPoint(cloud[i])) return true;
-    if (cloud[i].z < x.z() - std::max(0.05, 2.0 * c.d_thresh)) {
+    if (cloud[i].z < x.z() - c.occluder_min_gap) {
       // The edge ends here only if the nearer surface is a plane through the end and is itself at
       // the end (the floor under a box's edge), not a plane that merely passes there further
       // away (the top of a box in front of a locker's edge).
       const int owner = plane_of_pixel[i];
       const Eigen::Vector3d seen(cloud[i].x, cloud[i].y, cloud[i].z);
       const bool ends_here = owner >= 0 && std::abs(planes[owner].plane.SignedDistance(end)) < 2.0 * c.d_thresh &&
-                             (seen - end).norm() < c.end_max_distance;
+                             (seen - end).norm() < c.end_max_distance && terminates(owner);
       return !ends_here;
     }
   }
@@ -187,7 +208,8 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Clo
 }  // namespace
 
 std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
-                                         const CameraIntrinsics& camera, const IntersectionConfig& c) {
+                                         const CameraIntrinsics& camera, const IntersectionConfig& c,
+                                         const EdgeTerminators* terminators) {
   std::vector<Box3> boxes(planes.size());
   std::vector<Window> pixels(planes.size(), Window{1 << 30, -1, 1 << 30, -1});
   std::vector<int> plane_of_pixel(cloud.size(), -1);
@@ -252,7 +274,7 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
           if (t > highest) highest = t, span.high_point = p;
         }
       }
-      if (span.points < c.min_points) continue;
+      if (span.points < c.min_points || span.high - span.low < c.min_length) continue;
 
       PlaneEdge edge;
       edge.plane_a = static_cast<int>(a);
@@ -265,8 +287,10 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       // Eq. (6): the two farthest edge points span the diagonal of a cylinder of radius d_thresh.
       const double diagonal = (span.high_point - span.low_point).norm();
       edge.length_eq6 = std::sqrt(std::max(0.0, diagonal * diagonal - 4.0 * c.d_thresh * c.d_thresh));
-      edge.start_cut = IsCut(edge.start, -direction, cloud, plane_of_pixel, planes, camera, c);
-      edge.end_cut = IsCut(edge.end, direction, cloud, plane_of_pixel, planes, camera, c);
+      edge.convex = MostlyBehind(band_a, pb, origin, direction, span.low, span.high) &&
+                    MostlyBehind(band_b, pa, origin, direction, span.low, span.high);
+      edge.start_cut = IsCut(edge.start, -direction, cloud, plane_of_pixel, planes, camera, c, terminators);
+      edge.end_cut = IsCut(edge.end, direction, cloud, plane_of_pixel, planes, camera, c, terminators);
       edges.push_back(edge);
     }
   }

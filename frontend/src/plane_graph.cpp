@@ -26,6 +26,11 @@ double Extent(const Cloud& cloud, const DetectedPlane& plane) {
   return plane.inliers.empty() ? 0.0 : static_cast<double>((high - low).norm());
 }
 
+Eigen::Vector3d UpPrior(const PlaneGraphConfig& config) {
+  if (config.up_in_camera.size() != 3) return Eigen::Vector3d(0.0, -1.0, 0.0);
+  return Eigen::Vector3d(config.up_in_camera[0], config.up_in_camera[1], config.up_in_camera[2]).normalized();
+}
+
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
@@ -33,15 +38,10 @@ int Find(std::vector<int>& parent, int i) {
 
 }  // namespace
 
-void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
+void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
   const std::vector<DetectedPlane>& planes = model->planes;
   const size_t n = planes.size();
-
-  // 1. The floor and the other room structure.
-  Eigen::Vector3d up(config.up_in_camera.size() == 3 ? config.up_in_camera[0] : 0.0,
-                     config.up_in_camera.size() == 3 ? config.up_in_camera[1] : -1.0,
-                     config.up_in_camera.size() == 3 ? config.up_in_camera[2] : 0.0);
-  up.normalize();
+  const Eigen::Vector3d up = UpPrior(config);
   const double floor_cos = std::cos(config.floor_max_angle_deg * M_PI / 180.0);
   model->floor = -1;
   for (size_t i = 0; i < n; ++i) {
@@ -57,6 +57,14 @@ void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameMo
   for (size_t i = 0; i < n; ++i) {
     model->structure[i] = static_cast<int>(i) == model->floor || Extent(cloud, planes[i]) > config.structure_min_extent;
   }
+}
+
+void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
+  const std::vector<DetectedPlane>& planes = model->planes;
+  const size_t n = planes.size();
+
+  // 1. The floor and the other room structure.
+  FindStructure(cloud, config, model);
 
   // 2. Trihedral angles: 3-cycles of the graph whose three planes meet in a corner near all
   //    three edges.
@@ -89,11 +97,28 @@ void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameMo
   // 3. Objects: angles that share a graph edge (two planes) belong together, angle by angle.
   //    Structure planes are not faces of an object, and an edge between two structure planes
   //    (a wall on the floor) joins nothing: two lockers both standing on the floor stay apart.
+  //    A concave edge between an upward-facing top and a vertical face that are not structure is
+  //    one object resting on another (a box standing on a box): corners with such an edge belong
+  //    to no object. (Other concave edges are an object's own: an open locker's inner corners.)
   const size_t m = model->angles.size();
+  const Eigen::Vector3d up = model->floor >= 0 ? planes[model->floor].plane.normal : UpPrior(config);
+  const double cos_tilt = std::cos(config.resting_max_tilt_deg * M_PI / 180.0);
+  const double sin_tilt = std::sin(config.resting_max_tilt_deg * M_PI / 180.0);
+  auto resting = [&](const PlaneEdge& edge) {
+    if (edge.convex || model->structure[edge.plane_a] || model->structure[edge.plane_b]) return false;
+    const double ca = planes[edge.plane_a].plane.normal.dot(up), cb = planes[edge.plane_b].plane.normal.dot(up);
+    return (ca > cos_tilt && std::abs(cb) < sin_tilt) || (cb > cos_tilt && std::abs(ca) < sin_tilt);
+  };
+  std::vector<bool> object_angle(m, true);
+  for (size_t i = 0; i < m; ++i) {
+    for (int e : model->angles[i].edges) object_angle[i] = object_angle[i] && !resting(model->edges[e]);
+  }
   std::vector<int> parent(m);
   std::iota(parent.begin(), parent.end(), 0);
   for (size_t i = 0; i < m; ++i) {
+    if (!object_angle[i]) continue;
     for (size_t j = i + 1; j < m; ++j) {
+      if (!object_angle[j]) continue;
       for (int e : model->angles[i].edges) {
         const PlaneEdge& edge = model->edges[e];
         if (model->structure[edge.plane_a] && model->structure[edge.plane_b]) continue;
@@ -105,6 +130,7 @@ void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameMo
   model->objects.clear();
   std::vector<int> object_of_root(m, -1);
   for (size_t i = 0; i < m; ++i) {
+    if (!object_angle[i]) continue;
     const int root = Find(parent, static_cast<int>(i));
     if (object_of_root[root] < 0) {
       object_of_root[root] = static_cast<int>(model->objects.size());

@@ -23,6 +23,10 @@ struct PlaneEdge {
   // An end is cut when it lies at the image border or next to pixels without depth: the edge
   // may go on beyond it, so its length only bounds the true length from below.
   bool start_cut = false, end_cut = false;
+  // Convex (a box's own edge): each plane's points beside the edge lie behind the other plane,
+  // as on a solid's faces. Concave: one plane runs on in front of the other, as the table under
+  // a box or a box standing on another one.
+  bool convex = true;
   bool Complete() const { return !start_cut && !end_cut; }
 };
 

@@ -13,9 +13,11 @@ struct IntersectionConfig {
   double d_thresh = 0.03;          // an edge point lies within this of both planes [m]
   double d_min = 0.0;              // ... and farther than this from both (the paper's noise guard) [m]
   int min_points = 40;             // fewer edge points: no real intersection
+  double min_length = 0.02;        // shorter edges are noise where two planes touch [m]
   double min_angle_deg = 30.0;     // planes closer to parallel do not intersect [deg]
   int border_margin = 4;           // an edge end this close to the image border is cut [px]
   int cut_search = 6;              // an end with no depth within this many pixels beyond it is cut [px]
+  double occluder_min_gap = 0.02; // a surface this much nearer than the edge's continuation hides it [m]
   double end_max_distance = 0.15;  // a nearer surface beyond an end ends the edge only if its
                                    // point there lies this close to the end [m]
   double band_width = 0.09;        // each plane's extent along the edge is measured on its inliers
@@ -29,9 +31,11 @@ struct IntersectionConfig {
     v("d_thresh", d_thresh, Check::kPositive);
     v("d_min", d_min, Check::kNonNegative);
     v("min_points", min_points, Check::kPositive);
+    v("min_length", min_length, Check::kNonNegative);
     v("min_angle_deg", min_angle_deg, Check::kPositive);
     v("border_margin", border_margin, Check::kNonNegative);
     v("cut_search", cut_search, Check::kPositive);
+    v("occluder_min_gap", occluder_min_gap, Check::kPositive);
     v("end_max_distance", end_max_distance, Check::kPositive);
     v("band_width", band_width, Check::kPositive);
     v("end_trim_fraction", end_trim_fraction, Check::kProbability);
@@ -39,8 +43,19 @@ struct IntersectionConfig {
   }
 };
 
+// Which nearer planes end an edge that runs into them (rather than hide its continuation): the
+// room structure (floor, walls), and a horizontal surface a vertical edge goes down into (the top
+// a box stands on). Without it, any plane through the edge's end ends it, which mistakes a box
+// standing on another one for the end of the lower box's top edges.
+struct EdgeTerminators {
+  std::vector<bool> structure;                            // per plane id
+  Eigen::Vector3d up = Eigen::Vector3d(0.0, -1.0, 0.0);   // unit, camera frame
+  double max_tilt_deg = 30.0;  // a support is within this of horizontal, the edge of vertical
+};
+
 // Every real intersection among `planes` (ids as indices), in the camera frame.
 std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
-                                         const CameraIntrinsics& camera, const IntersectionConfig& config);
+                                         const CameraIntrinsics& camera, const IntersectionConfig& config,
+                                         const EdgeTerminators* terminators = nullptr);
 
 }  // namespace planemap

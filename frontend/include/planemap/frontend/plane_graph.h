@@ -23,6 +23,8 @@ struct PlaneGraphConfig {
   double corner_max_distance = 0.1;     // a trihedral corner lies this close to its three edges [m]
   double corner_min_determinant = 0.3;  // |det(n1, n2, n3)|: below, the three planes are too close
                                         // to sharing a line for a stable corner
+  double resting_max_tilt_deg = 30.0;   // a top and a face within this of horizontal and vertical
+                                        // meeting in a concave edge: one object rests on another [deg]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -33,11 +35,15 @@ struct PlaneGraphConfig {
     v("structure_min_extent", structure_min_extent, Check::kPositive);
     v("corner_max_distance", corner_max_distance, Check::kPositive);
     v("corner_min_determinant", corner_min_determinant, Check::kProbability);
+    v("resting_max_tilt_deg", resting_max_tilt_deg, Check::kPositive);
   }
 };
 
-// Fills model->floor, model->structure, model->angles and model->objects from its planes and
-// edges (the planes' inliers index into `cloud`).
+// Fills model->floor and model->structure from its planes (their inliers index into `cloud`).
+void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
+
+// Fills model->floor, model->structure (FindStructure), model->angles and model->objects from its
+// planes and edges.
 void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
 
 }  // namespace planemap
