@@ -1,8 +1,10 @@
 // The planemap executable, run as a user would: subcommands, help, output files and errors.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -117,6 +119,96 @@ TEST(Cli, ErrorsAreOneLineNamingTheFileAndExitNonZero) {
 
   const CommandRun unknown = Planemap("fly");
   EXPECT_NE(unknown.exit_code, 0);
+}
+
+// A ground truth at 30 Hz whose poses come in pairs at one position; the estimate is it in another
+// world frame with every even pose 1 cm up and every odd one 1 cm down. The pairs cancel in the
+// alignment's centroid and cross-covariance, so it recovers the frame exactly: ATE 1 cm everywhere.
+void WriteShiftedPair(const std::string& groundtruth_file, const std::string& estimate_file) {
+  Trajectory groundtruth, estimate;
+  const Pose3 T_estimate_groundtruth = MakePoseRpy(0.1, -0.2, 1.0, Eigen::Vector3d(0.5, -1.0, 0.2));
+  for (int k = 0; k < 90; ++k) {
+    const double t = (k / 2) * 0.1;
+    const Pose3 pose = MakePoseRpy(0.0, 0.2, 0.5 * t, Eigen::Vector3d(std::cos(t), std::sin(t), 0.5 + 0.1 * t));
+    groundtruth.push_back({1000.0 + k / 30.0, pose});
+    Pose3 offset = pose;
+    offset.translation().z() += k % 2 == 0 ? 0.01 : -0.01;
+    estimate.push_back({1000.0 + k / 30.0, T_estimate_groundtruth * offset});
+  }
+  WriteTumTrajectory(groundtruth_file, groundtruth);
+  WriteTumTrajectory(estimate_file, estimate);
+}
+
+TEST(Cli, EvalPrintsAndWritesTheAteOfAShiftedTrajectory) {
+  TempDir dir;
+  const std::string gt = dir.File("gt.txt"), est = dir.File("est.txt"), csv = dir.File("eval.csv");
+  WriteShiftedPair(gt, est);
+  const CommandRun run = Planemap("eval --groundtruth " + gt + " --estimate " + est + " --csv " + csv, false);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("90 estimated, 90 ground truth, 90 paired within 0.020 s"), std::string::npos) << run.output;
+  // rmse, mean, median, max [cm]; motions over 1 s (30 frames, same parity) carry no error.
+  EXPECT_NE(run.output.find("ATE [cm]              1.00     1.00     1.00     1.00"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("RPE 1.00 s [cm]       0.00     0.00     0.00     0.00   60 pose pairs"), std::string::npos)
+      << run.output;
+  std::ifstream in(csv);
+  std::string line, ate_rmse;
+  while (std::getline(in, line)) {
+    if (line.rfind("trajectory,est.txt,ate_rmse,", 0) == 0) ate_rmse = line;
+  }
+  ASSERT_FALSE(ate_rmse.empty()) << "no ate_rmse row in " << csv;
+  EXPECT_NEAR(std::stod(ate_rmse.substr(ate_rmse.find("rmse,") + 5)), 0.01, 1e-8) << "ATE RMSE [m]: " << ate_rmse;
+  EXPECT_NE(ate_rmse.find(",m"), std::string::npos) << ate_rmse;
+  EXPECT_EQ(Planemap("eval --help").exit_code, 0);
+}
+
+TEST(Cli, EvalComparesMapObjectsWithTheScene) {
+  TempDir dir;
+  const std::string gt = dir.File("gt.txt");
+  WriteShiftedPair(gt, dir.File("est.txt"));
+  // The default scene's box (2.1, 0.1, 0.125), yaw 215 deg, 0.25 x 0.35 x 0.25 m, mapped 1 cm off
+  // along x with its depth 5 mm long and its height not seen whole; the estimate is the ground truth.
+  const std::string map = dir.Write("map.json", R"({"planes": [], "objects": [{"id": 0, "label": "box",
+      "dimensions": [0.255, 0.35, 0.2], "dimension_complete": [true, true, false], "center": [2.11, 0.1, 0.125],
+      "axes": [[-0.819152044, -0.573576436, 0], [0.573576436, -0.819152044, 0], [0, 0, 1]],
+      "grasp_axis": null, "observations": 12}]})");
+  const CommandRun run = Planemap("eval --groundtruth " + gt + " --estimate " + gt + " --map " + map + " --scene " +
+                                  SourcePath("configs/scenes/default.yaml"), false);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("objects: 1 in " + map + " against scene fig2"), std::string::npos) << run.output;
+  // centre [cm], dimensions along the map's x y z [cm], axis [deg], grasp axis [deg]
+  EXPECT_NE(run.output.find("box          box          box             1.00   +0.50   +0.00       -        0.00            -"),
+            std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("locker1      open_locker  -          not found"), std::string::npos) << run.output;
+
+  const std::string bad = dir.Write("bad.json", R"({"objects": [{"label": "box", "dimensions": [1, 1, 1],
+      "dimension_complete": [true, true, true], "center": [2.1, 0.1], "axes": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}]})");
+  const CommandRun malformed = Planemap("eval --groundtruth " + gt + " --estimate " + gt + " --map " + bad +
+                                        " --scene " + SourcePath("configs/scenes/default.yaml"));
+  EXPECT_EQ(malformed.exit_code, 1);
+  EXPECT_NE(malformed.output.find("planemap eval: error: " + bad + ": objects[0].center: expected 3 finite numbers"),
+            std::string::npos) << malformed.output;
+}
+
+TEST(Cli, EvalErrorsNameTheFile) {
+  TempDir dir;
+  const std::string gt = dir.File("gt.txt"), est = dir.File("est.txt");
+  WriteShiftedPair(gt, est);
+  const std::string bad = dir.Write("bad.txt", "# timestamp tx ty tz qx qy qz qw\n1.0 0 0 0 0 0 0 1\n2.0 0 0 zero 0 0 0 1\n");
+  const CommandRun malformed = Planemap("eval --groundtruth " + gt + " --estimate " + bad);
+  EXPECT_EQ(malformed.exit_code, 1);
+  EXPECT_NE(malformed.output.find("planemap eval: error: " + bad + ":3: expected 8 finite numbers"), std::string::npos)
+      << malformed.output;
+  EXPECT_EQ(std::count(malformed.output.begin(), malformed.output.end(), '\n'), 1) << malformed.output;
+
+  const std::string far = dir.Write("far.txt", "5000.0 0 0 0 0 0 0 1\n5001.0 0 0 0 0 0 0 1\n");
+  const CommandRun unpaired = Planemap("eval --groundtruth " + gt + " --estimate " + far);
+  EXPECT_EQ(unpaired.exit_code, 1);
+  EXPECT_NE(unpaired.output.find(far + ": 0 of 2 poses lie within 0.020 s of a pose in " + gt), std::string::npos)
+      << unpaired.output;
+
+  const CommandRun no_scene = Planemap("eval --groundtruth " + gt + " --estimate " + est + " --map m.json");
+  EXPECT_EQ(no_scene.exit_code, 1);
+  EXPECT_NE(no_scene.output.find("needs both --map"), std::string::npos) << no_scene.output;
 }
 
 }  // namespace

@@ -51,6 +51,33 @@ int main(int argc, char** argv) {
   frame_cmd->add_option("--patterns", frame.patterns, "Object graph patterns (YAML)")->capture_default_str();
   frame_cmd->add_option("--out", frame.out, "Output folder for model.json, model.ply, overlay.png")->capture_default_str();
 
+  planemap::MapOptions map;
+  CLI::App* map_cmd = app.add_subcommand(
+      "map", "Track a TUM-layout sequence against a plane map; writes trajectory.txt, tracking.csv, map.json, map.ply");
+  map_cmd->add_option("sequence", map.sequence, "Sequence folder (rgb.txt, depth.txt, ...)")->required();
+  map_cmd->add_option("--camera", map.camera,
+                      "Camera intrinsics (YAML); default: the sequence's camera.yaml, else "
+                      "configs/cameras/tum_openni_default.yaml");
+  map_cmd->add_option("--config", map.config, "Settings (YAML)")->capture_default_str();
+  map_cmd->add_option("--patterns", map.patterns, "Object graph patterns (YAML)")->capture_default_str();
+  map_cmd->add_option("--out", map.out, "Output folder")->capture_default_str();
+  map_cmd->add_option("--anchor", map.anchor,
+                      "World frame: groundtruth (the first frame's true pose), first (the first camera frame) or "
+                      "auto (ground truth when the sequence has it)")
+      ->capture_default_str();
+  map_cmd->add_option("--max-frames", map.max_frames, "Use only the first N frames");
+  map_cmd->add_option("--stride", map.stride, "Use every n-th frame")->capture_default_str();
+
+  planemap::EvalOptions eval;
+  CLI::App* eval_cmd = app.add_subcommand(
+      "eval", "Trajectory error (ATE, RPE) against ground truth; with --map and --scene, the map's object errors");
+  eval_cmd->add_option("--groundtruth", eval.groundtruth, "Ground-truth trajectory (TUM format)")->required();
+  eval_cmd->add_option("--estimate", eval.estimate, "Estimated trajectory (TUM format)")->required();
+  eval_cmd->add_option("--map", eval.map, "Map file (map.json of planemap map)");
+  eval_cmd->add_option("--scene", eval.scene, "Scene (YAML) or rendered sequence folder holding the true objects");
+  eval_cmd->add_option("--config", eval.config, "Settings (YAML), see eval: in configs/default.yaml")->capture_default_str();
+  eval_cmd->add_option("--csv", eval.csv, "Write every figure to this CSV file (kind,name,metric,value,unit)");
+
   CLI11_PARSE(app, argc, argv);
   // Progress and log lines go to stderr; stdout carries only the command's results.
   spdlog::set_default_logger(spdlog::stderr_color_mt("planemap"));
@@ -62,6 +89,8 @@ int main(int argc, char** argv) {
     if (render_cmd->parsed()) return planemap::RunRender(render);
     if (inspect_cmd->parsed()) return planemap::RunInspect(inspect);
     if (frame_cmd->parsed()) return planemap::RunFrame(frame);
+    if (eval_cmd->parsed()) return planemap::RunEval(eval);
+    if (map_cmd->parsed()) return planemap::RunMap(map);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());
     return 1;

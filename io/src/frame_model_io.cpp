@@ -48,7 +48,7 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
   for (const PlaneEdge& e : model.edges) {
     j["edges"].push_back({{"planes", {e.plane_a, e.plane_b}}, {"start", Vec(e.start)}, {"end", Vec(e.end)},
                           {"length", e.length}, {"length_eq6", e.length_eq6}, {"points", e.points},
-                          {"start_cut", e.start_cut}, {"end_cut", e.end_cut}});
+                          {"start_cut", e.start_cut}, {"end_cut", e.end_cut}, {"convex", e.convex}});
   }
   j["trihedral_angles"] = json::array();
   for (const TrihedralAngle& a : model.angles) {
@@ -72,45 +72,114 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
   return j.dump(indent);
 }
 
-void WriteFrameModelPly(const std::string& file, const FrameModel& model, const std::vector<Eigen::Vector3f>& points) {
-  struct Vertex {
-    Eigen::Vector3f p;
-    cv::Scalar bgr;
-  };
-  std::vector<Vertex> vertices;
-  std::vector<std::pair<int, int>> lines;
-  for (const DetectedPlane& plane : model.planes) {
-    const cv::Scalar c = Palette(plane.id);
-    for (int i : plane.inliers) {
-      if (std::isfinite(points[i].z())) vertices.push_back({points[i], c});
-    }
-  }
-  auto add_line = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const cv::Scalar& c) {
-    vertices.push_back({a.cast<float>(), c});
-    vertices.push_back({b.cast<float>(), c});
-    lines.emplace_back(static_cast<int>(vertices.size()) - 2, static_cast<int>(vertices.size()) - 1);
-  };
-  for (const PlaneEdge& e : model.edges) add_line(e.start, e.end, cv::Scalar(0, 0, 0));
-  for (const TrihedralAngle& a : model.angles) {
-    const double s = 0.02;  // corners as small crosses [m]
-    for (int k = 0; k < 3; ++k) add_line(a.corner - s * Eigen::Vector3d::Unit(k), a.corner + s * Eigen::Vector3d::Unit(k), cv::Scalar(0, 128, 255));
-  }
-  for (const FrameObject& o : model.objects) {
-    for (int k = 0; k < 3; ++k) add_line(o.center - 0.02 * Eigen::Vector3d::Unit(k), o.center + 0.02 * Eigen::Vector3d::Unit(k), cv::Scalar(255, 0, 0));
-    if (o.grasp_side >= 0) add_line(o.center, o.center + 0.3 * o.grasp_axis, cv::Scalar(0, 0, 255));
-  }
+namespace {
+
+struct PlyVertex {
+  Eigen::Vector3f p;
+  cv::Scalar bgr;
+};
+
+// Points and line segments (PLY "edge" elements) with colours, ASCII.
+void WritePly(const std::string& file, const std::string& comment, const std::vector<PlyVertex>& vertices,
+              const std::vector<std::pair<int, int>>& lines) {
   std::ofstream out(file);
   if (!out) ThrowInputError(file, 0, "cannot open file for writing");
-  out << "ply\nformat ascii 1.0\ncomment planemap frame model: planes (inliers), edges, corners, centres, grasp axes\n"
+  out << "ply\nformat ascii 1.0\ncomment " << comment << "\n"
       << "element vertex " << vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
       << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
       << "element edge " << lines.size() << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
-  for (const Vertex& v : vertices) {
+  for (const PlyVertex& v : vertices) {
     out << v.p.x() << ' ' << v.p.y() << ' ' << v.p.z() << ' ' << static_cast<int>(v.bgr[2]) << ' '
         << static_cast<int>(v.bgr[1]) << ' ' << static_cast<int>(v.bgr[0]) << '\n';
   }
   for (const auto& [a, b] : lines) out << a << ' ' << b << '\n';
   if (!out) ThrowInputError(file, 0, "write failed");
+}
+
+struct PlyBuilder {
+  std::vector<PlyVertex> vertices;
+  std::vector<std::pair<int, int>> lines;
+  void Line(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const cv::Scalar& c) {
+    vertices.push_back({a.cast<float>(), c});
+    vertices.push_back({b.cast<float>(), c});
+    lines.emplace_back(static_cast<int>(vertices.size()) - 2, static_cast<int>(vertices.size()) - 1);
+  }
+  void Cross(const Eigen::Vector3d& x, double half, const cv::Scalar& c) {
+    for (int k = 0; k < 3; ++k) Line(x - half * Eigen::Vector3d::Unit(k), x + half * Eigen::Vector3d::Unit(k), c);
+  }
+};
+
+}  // namespace
+
+void WriteFrameModelPly(const std::string& file, const FrameModel& model, const std::vector<Eigen::Vector3f>& points) {
+  PlyBuilder ply;
+  for (const DetectedPlane& plane : model.planes) {
+    const cv::Scalar c = Palette(plane.id);
+    for (int i : plane.inliers) {
+      if (std::isfinite(points[i].z())) ply.vertices.push_back({points[i], c});
+    }
+  }
+  for (const PlaneEdge& e : model.edges) ply.Line(e.start, e.end, cv::Scalar(0, 0, 0));
+  for (const TrihedralAngle& a : model.angles) ply.Cross(a.corner, 0.02, cv::Scalar(0, 128, 255));  // [m]
+  for (const FrameObject& o : model.objects) {
+    ply.Cross(o.center, 0.02, cv::Scalar(255, 0, 0));
+    if (o.grasp_side >= 0) ply.Line(o.center, o.center + 0.3 * o.grasp_axis, cv::Scalar(0, 0, 255));
+  }
+  WritePly(file, "planemap frame model: planes (inliers), edges, corners, centres, grasp axes", ply.vertices, ply.lines);
+}
+
+std::string PlaneMapJson(const PlaneMap& map, int indent) {
+  json j;
+  j["frame"] = "world";
+  j["units"] = "metres";
+  j["planes"] = json::array();
+  for (const PlaneLandmark& l : map.landmarks) {
+    j["planes"].push_back({{"id", l.id}, {"normal", Vec(l.plane.normal)}, {"offset", l.plane.offset},
+                           {"extent_low", Vec(l.low)}, {"extent_high", Vec(l.high)}, {"points", l.points.size()},
+                           {"observations", l.observations}, {"first_frame", l.first_frame}, {"last_frame", l.last_frame}});
+  }
+  j["edges"] = json::array();
+  for (const MapEdge& e : map.edges) {
+    j["edges"].push_back({{"planes", {e.landmark_a, e.landmark_b}}, {"start", Vec(e.start)}, {"end", Vec(e.end)},
+                          {"length", e.length}, {"complete", e.complete}, {"observations", e.observations}});
+  }
+  j["objects"] = json::array();
+  for (const MapObject& o : map.objects) {
+    json object = {{"id", o.id},
+                   {"label", o.label},
+                   {"planes", o.landmarks},
+                   {"dimensions", Vec(o.dimensions)},
+                   {"dimension_complete", {o.dimension_complete[0], o.dimension_complete[1], o.dimension_complete[2]}},
+                   {"center", Vec(o.center)},
+                   {"axes", {Vec(o.axes.col(0)), Vec(o.axes.col(1)), Vec(o.axes.col(2))}},
+                   {"grasp_axis", o.has_grasp_axis ? Vec(o.grasp_axis) : json(nullptr)},
+                   {"observations", o.observations}};
+    j["objects"].push_back(object);
+  }
+  j["keyframes"] = json::array();
+  for (const Keyframe& k : map.keyframes) {
+    const Eigen::Quaterniond q(k.T_world_camera.linear());
+    j["keyframes"].push_back({{"frame", k.frame}, {"stamp", k.stamp}, {"position", Vec(k.T_world_camera.translation())},
+                              {"quaternion_xyzw", {q.x(), q.y(), q.z(), q.w()}}});
+  }
+  j["memory_bytes"] = map.MemoryBytes();
+  return j.dump(indent);
+}
+
+void WritePlaneMapPly(const std::string& file, const PlaneMap& map) {
+  PlyBuilder ply;
+  for (const PlaneLandmark& l : map.landmarks) {
+    for (const Eigen::Vector3f& p : l.points) ply.vertices.push_back({p, Palette(l.id)});
+  }
+  for (const MapEdge& e : map.edges) ply.Line(e.start, e.end, cv::Scalar(0, 0, 0));
+  for (const MapObject& o : map.objects) {
+    ply.Cross(o.center, 0.03, cv::Scalar(255, 0, 0));  // [m]
+    for (int k = 0; k < 3; ++k) ply.Line(o.center, o.center + 0.5 * o.dimensions[k] * o.axes.col(k), cv::Scalar(255, 255, 0));
+    if (o.has_grasp_axis) ply.Line(o.center, o.center + 0.3 * o.grasp_axis, cv::Scalar(0, 0, 255));
+  }
+  for (const Keyframe& k : map.keyframes) ply.Cross(k.T_world_camera.translation(), 0.02, cv::Scalar(0, 200, 0));
+  WritePly(file, "planemap map: plane landmarks (voxel points), edges, object centres, axes and grasp axes, keyframes",
+           ply.vertices, ply.lines);
 }
 
 void WriteOverlayPng(const std::string& file, const ColorImage& color, const FrameModel& model,

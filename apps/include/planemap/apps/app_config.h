@@ -3,7 +3,9 @@
 #include <string>
 
 #include "planemap/core/config.h"
+#include "planemap/core/trajectory_eval.h"
 #include "planemap/frontend/frontend.h"
+#include "planemap/frontend/tracker.h"
 #include "planemap/io/tum_sequence.h"
 #include "planemap/sim/virtual_camera.h"
 
@@ -13,12 +15,16 @@ struct AppConfig {
   DatasetConfig dataset;
   sim::RenderConfig render;
   FrontendConfig frontend;
+  TrackingConfig tracking;
+  EvalConfig eval;
 
   template <class V>
   void VisitFields(V&& v) {
     v("dataset", dataset);
     v("render", render);
     v("frontend", frontend);
+    v("tracking", tracking);
+    v("eval", eval);
   }
 };
 

@@ -35,8 +35,30 @@ struct FrameOptions {
   std::string out = "out/frame";  // overlay.png, model.ply, model.json
 };
 
+struct MapOptions {
+  std::string sequence;  // a TUM-layout folder (real or rendered)
+  std::string camera;    // empty: the sequence's camera.yaml, else the TUM/OpenNI default
+  std::string config = "configs/default.yaml";
+  std::string patterns = "configs/patterns.yaml";
+  std::string out = "out/map";  // trajectory.txt, tracking.csv, map.json, map.ply
+  std::string anchor = "auto";  // first pose: groundtruth | first (identity) | auto (ground truth if any)
+  int max_frames = -1;          // < 0: all
+  int stride = 1;               // use every n-th frame
+};
+
+struct EvalOptions {
+  std::string groundtruth;  // TUM trajectory files
+  std::string estimate;
+  std::string map;          // map.json of `planemap map` (optional, with scene)
+  std::string scene;        // scene YAML or a rendered sequence folder (its scene.yaml)
+  std::string config = "configs/default.yaml";
+  std::string csv;          // empty: no CSV
+};
+
 int RunRender(const RenderOptions& options);
+int RunMap(const MapOptions& options);
 int RunFrame(const FrameOptions& options);
 int RunInspect(const InspectOptions& options);
+int RunEval(const EvalOptions& options);
 
 }  // namespace planemap

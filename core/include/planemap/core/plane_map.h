@@ -1,0 +1,85 @@
+#pragma once
+// The map of a run: plane landmarks, the real intersections between them, the objects built on
+// them, and keyframes (paper section 4.2). World frame throughout. Its size grows with the number
+// of planes and objects, not with frames: each landmark keeps fixed-size point moments and a
+// voxel sample of its surface whose size is bounded by the plane's area.
+#include <array>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "planemap/core/detected_plane.h"
+#include "planemap/core/plane.h"
+#include "planemap/core/pose.h"
+
+namespace planemap {
+
+struct PlaneLandmark {
+  int id = 0;                       // index in PlaneMap::landmarks
+  Plane plane;                      // world frame; normal toward the cameras that saw it
+  PointMoments moments;             // weighted sums of every inlier it was fit from (world)
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e30);    // extent of its inliers [m]
+  Eigen::Vector3d high = Eigen::Vector3d::Constant(-1e30);
+  std::vector<Eigen::Vector3f> points;  // one point per voxel of its surface (world) [m]
+  int observations = 0;             // frames that saw it
+  int first_frame = -1, last_frame = -1;
+
+  bool Overlaps(const Eigen::Vector3d& low_other, const Eigen::Vector3d& high_other, double margin) const {
+    return ((low.array() - margin) <= high_other.array()).all() && ((low_other.array() - margin) <= high.array()).all();
+  }
+};
+
+// A real intersection of two landmarks; the merged edge is the longest one seen (paper, Fig. 4).
+struct MapEdge {
+  int landmark_a = -1, landmark_b = -1;  // landmark_a < landmark_b
+  Eigen::Vector3d start = Eigen::Vector3d::Zero(), end = Eigen::Vector3d::Zero();  // [m]
+  double length = 0.0;                   // [m]
+  bool complete = false;                 // seen with neither end cut at least once
+  int observations = 0;
+};
+
+struct MapObject {
+  int id = 0;
+  std::string label = "unknown";
+  std::vector<int> landmarks;            // its faces
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns x, y, z (z up), as FrameObject
+  Eigen::Vector3d dimensions = Eigen::Vector3d::Zero();  // [m]
+  std::array<bool, 3> dimension_complete{};
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();       // eq. (7), averaged over observations [m]
+  bool has_grasp_axis = false;
+  Eigen::Vector3d grasp_axis = Eigen::Vector3d::Zero();   // unit, world
+  int observations = 0;
+  // Running sums behind the averages: per axis, the complete observations of that dimension;
+  // the centre from views where all three dimensions were complete (else from every view).
+  std::array<int, 3> complete_count{};
+  Eigen::Vector3d complete_sum = Eigen::Vector3d::Zero();
+  int center_count = 0, partial_center_count = 0;
+  Eigen::Vector3d center_sum = Eigen::Vector3d::Zero(), partial_center_sum = Eigen::Vector3d::Zero();
+  std::vector<std::pair<std::string, int>> label_votes;  // the label is the most voted class
+  std::vector<std::pair<int, int>> grasp_votes;          // (landmark, times chosen as grasp side)
+  int grasp_landmark = -1;                               // the most chosen: the grasp axis is its normal
+  int x_landmark = -1;                                   // the face whose normal is the x axis
+};
+
+struct Keyframe {
+  int frame = 0;
+  double stamp = 0.0;
+  Pose3 T_world_camera = Pose3::Identity();
+};
+
+struct PlaneMap {
+  std::vector<PlaneLandmark> landmarks;
+  std::vector<MapEdge> edges;
+  std::vector<MapObject> objects;
+  std::vector<Keyframe> keyframes;
+
+  // Index into `edges` of the edge between two landmarks, or -1.
+  int EdgeBetween(int a, int b) const;
+  // Bytes held: the structs and their vectors' contents.
+  std::size_t MemoryBytes() const;
+};
+
+}  // namespace planemap

@@ -1,0 +1,190 @@
+// Tracking and mapping on rendered walks (full sensor noise, seeded): ATE against the walk's
+// ground truth, no lost frame, the box's map dimensions and axis against the scene; and a walk
+// that faces a bare wall for a while is marked degraded there and recovers.
+//
+// DISABLED until tracking meets them (issue 4, open): on the default scene's 3 m walk the tracker
+// now reaches an ATE RMSE of 17 cm, not 2 cm: wrong plane associations among the many small and
+// parallel planes (lockers, box, far wall fragments) are accepted by RANSAC and the map grows
+// duplicate landmarks (187 for a room of about 20 planes). Run them with
+// --gtest_also_run_disabled_tests; PLANEMAP_TRACE=1 prints every frame's status and error.
+#include <cstdio>
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+#include "planemap/core/object_eval.h"
+#include "planemap/core/trajectory_eval.h"
+#include "planemap/frontend/frontend.h"
+#include "planemap/frontend/tracker.h"
+#include "planemap/sim/walk.h"
+#include "sim_views.h"
+#include "test_support.h"
+
+namespace planemap {
+namespace {
+
+using testing::SourcePath;
+using testing::XtionCamera;
+
+struct TrackedRun {
+  Trajectory truth, estimate;
+  std::vector<TrackStatus> status;
+  PlaneMap map;
+};
+
+// A Nao-like walk (10 cm/s, head sway, camera 52 cm up, 20 deg down) through `waypoints`, at
+// 5 Hz as the paper's robot ran; frames rendered with noise, then frontend and tracker. The
+// tracker starts at the true first pose, as `planemap map` does on a sequence with ground truth.
+TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed) {
+  sim::WalkConfig walk;
+  walk.waypoints = std::move(waypoints);
+  walk.rate = 5.0;
+  sim::RenderConfig render;
+  render.seed = seed;
+  const sim::VirtualCamera camera(scene, XtionCamera(), render);
+  const Frontend frontend(XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml")));
+  TrackedRun run;
+  run.truth = sim::GenerateWalk(walk);
+  Tracker tracker(TrackingConfig{}, run.truth.front().T_world_camera);
+  for (size_t k = 0; k < run.truth.size(); ++k) {
+    sim::RenderedFrame rendered = camera.Render(run.truth[k].T_world_camera, camera.FrameSeed(static_cast<int>(k)));
+    RgbdFrame frame;
+    frame.depth = std::move(rendered.depth);
+    frame.color = std::move(rendered.color);
+    frame.stamp = run.truth[k].stamp;
+    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, XtionCamera(), CloudConfig{});
+    const TrackResult r = tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp);
+    run.estimate.push_back({frame.stamp, r.T_world_camera});
+    if (std::getenv("PLANEMAP_TRACE")) {
+      const Pose3 e = run.truth[k].T_world_camera.inverse() * r.T_world_camera;
+      std::printf("frame %zu %s planes %d matched %d inliers %d added %d icp %d err %.1f mm %.2f deg %s\n", k, ToString(r.status), r.planes,
+                  r.matched, r.inliers, r.added, r.icp, 1000 * e.translation().norm(), RotationAngle(e.linear()) * 57.3, r.reason.c_str());
+    }
+    run.status.push_back(r.status);
+  }
+  run.map = tracker.map();
+  return run;
+}
+
+std::vector<ObjectTruth> Truths(const sim::Scene& scene) {
+  std::vector<ObjectTruth> truths;
+  for (const sim::SceneObject& o : scene.objects) truths.push_back({o.name, o.type, o.T_world_object, o.dimensions});
+  return truths;
+}
+
+std::vector<ObjectEstimate> Estimates(const PlaneMap& map) {
+  std::vector<ObjectEstimate> estimates;
+  for (const MapObject& o : map.objects) {
+    ObjectEstimate e;
+    e.id = o.id;
+    e.label = o.label;
+    e.dimensions = o.dimensions;
+    e.dimension_complete = o.dimension_complete;
+    e.center = o.center;
+    e.axes = o.axes;
+    if (o.has_grasp_axis) e.grasp_axis = o.grasp_axis;
+    e.observations = o.observations;
+    estimates.push_back(e);
+  }
+  return estimates;
+}
+
+struct WalkCase {
+  const char* scene;
+  std::vector<double> waypoints;  // about 3 m of walking
+  const char* box;                // the object whose size and axis are checked
+};
+
+class TrackedWalk : public ::testing::TestWithParam<WalkCase> {};
+
+TEST_P(TrackedWalk, DISABLED_AteUnderTwoCentimetresNoFrameLostBoxSizeAndAxis) {
+  const WalkCase& c = GetParam();
+  const sim::Scene scene = sim::LoadScene(SourcePath(c.scene));
+  const TrackedRun run = TrackWalk(scene, c.waypoints, 11);
+  int degraded = 0, lost = 0;
+  for (TrackStatus s : run.status) degraded += s == TrackStatus::kDegraded, lost += s == TrackStatus::kLost;
+  EvalConfig eval;
+  eval.rpe_delta = 1.0;
+  const TrajectoryEvaluation t = EvaluateTrajectory(run.truth, run.estimate, eval, "truth", "estimate");
+  double length = 0.0;
+  for (size_t k = 1; k < run.truth.size(); ++k) {
+    length += (run.truth[k].T_world_camera.translation() - run.truth[k - 1].T_world_camera.translation()).norm();
+  }
+  std::printf("%s: %zu frames over %.2f m of camera path; degraded %d, lost %d; ATE RMSE %.1f mm (max %.1f); "
+              "RPE/1 s %.1f mm, %.2f deg; map %zu planes, %zu objects, %.1f kB\n",
+              c.scene, run.status.size(), length, degraded, lost, 1000 * t.ate.translation.rmse,
+              1000 * t.ate.translation.max, 1000 * t.rpe.translation.rmse, t.rpe.rotation.rmse, run.map.landmarks.size(),
+              run.map.objects.size(), run.map.MemoryBytes() / 1024.0);
+  EXPECT_GE(length, 3.0) << "m";
+  EXPECT_EQ(lost, 0);
+  EXPECT_LE(t.ate.translation.rmse, 0.02) << "m";
+
+  // The map is in the ground truth's world (first pose anchored): no alignment for objects.
+  const std::vector<ObjectError> errors = EvaluateObjects(Truths(scene), Estimates(run.map), EvalConfig{});
+  bool checked = false;
+  for (const ObjectError& e : errors) {
+    if (!e.found()) {
+      std::printf("  %s (%s): not in the map\n", e.name.c_str(), e.type.c_str());
+      continue;
+    }
+    const MapObject& o = run.map.objects[e.estimate];
+    std::printf("  %s (%s): map %s seen %d times, centre %.1f mm, dimensions %+.1f %+.1f %+.1f mm, axis %.2f deg\n",
+                e.name.c_str(), e.type.c_str(), o.label.c_str(), o.observations, 1000 * e.center_error,
+                1000 * e.dimension_error.x(), 1000 * e.dimension_error.y(), 1000 * e.dimension_error.z(), e.axis_error_deg);
+    if (e.name != c.box) continue;
+    checked = true;
+    EXPECT_EQ(o.label, "box");
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(o.dimension_complete[k]) << "axis " << k;
+      if (o.dimension_complete[k]) {
+        EXPECT_LE(std::abs(e.dimension_error[k]), 0.01) << "m, axis " << k;
+      }
+    }
+    EXPECT_LE(e.axis_error_deg, 2.0) << "deg";
+  }
+  EXPECT_TRUE(checked) << c.box << " is in the map";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, TrackedWalk,
+    ::testing::Values(WalkCase{"configs/scenes/default.yaml", {-0.9, -0.8, 0.9, -0.8, 1.55, 0.1}, "box"},
+                      WalkCase{"configs/scenes/office.yaml", {-0.8, 0.5, 0.8, 0.5, 1.5, 0.0}, "box"},
+                      WalkCase{"configs/scenes/storeroom.yaml", {-0.8, -0.6, 1.0, -0.6, 1.6, 0.1}, "crate"}),
+    [](const auto& info) {
+      std::string name = info.param.scene;
+      name = name.substr(name.rfind('/') + 1);
+      return name.substr(0, name.find('.'));
+    });
+
+TEST(Tracking, DISABLED_SingleWallStretchIsDegradedAndRecovers) {
+  // From the start, a turn to walk at the bare south wall (only the floor and that wall in view:
+  // the translation along the wall is unobservable), then a turn back toward the box.
+  const sim::Scene scene = sim::LoadScene(SourcePath("configs/scenes/default.yaml"));
+  const TrackedRun run = TrackWalk(scene, {0.0, 0.0, 0.6, 0.0, 0.6, -1.6, 1.4, -0.2}, 12);
+  int first_degraded = -1, last_degraded = -1, degraded = 0, lost = 0;
+  for (size_t k = 0; k < run.status.size(); ++k) {
+    if (run.status[k] == TrackStatus::kDegraded) {
+      ++degraded;
+      if (first_degraded < 0) first_degraded = static_cast<int>(k);
+      last_degraded = static_cast<int>(k);
+    }
+    lost += run.status[k] == TrackStatus::kLost;
+  }
+  const TrajectoryEvaluation t = EvaluateTrajectory(run.truth, run.estimate, EvalConfig{}, "truth", "estimate");
+  // Error at the end, after recovery, straight against the truth (both in the same world).
+  const Pose3 end_error = run.truth.back().T_world_camera.inverse() * run.estimate.back().T_world_camera;
+  std::printf("single-wall walk: %zu frames, degraded %d (frames %d-%d), lost %d; ATE RMSE %.1f mm; "
+              "final error %.1f mm, %.2f deg\n",
+              run.status.size(), degraded, first_degraded, last_degraded, lost, 1000 * t.ate.translation.rmse,
+              1000 * end_error.translation().norm(), RotationAngle(end_error.linear()) * 180.0 / M_PI);
+  EXPECT_GE(degraded, 10) << "the wall stretch is marked degraded";
+  EXPECT_EQ(lost, 0);
+  ASSERT_GE(last_degraded, 0);
+  EXPECT_LT(last_degraded + 10, static_cast<int>(run.status.size())) << "tracking recovers before the end";
+  EXPECT_EQ(run.status.back(), TrackStatus::kTracked);
+  EXPECT_LE(end_error.translation().norm(), 0.05) << "m after recovery";
+  EXPECT_LE(RotationAngle(end_error.linear()) * 180.0 / M_PI, 2.0) << "deg after recovery";
+}
+
+}  // namespace
+}  // namespace planemap
