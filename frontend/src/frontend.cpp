@@ -25,8 +25,8 @@ FrameModel Frontend::Process(const Cloud& cloud) const {
   // 3. Real intersections, eqs. (2)-(6); the floor and walls first, which end the edges that run
   //    into them.
   FindStructure(cloud, config_.graph, &model);
-  const Eigen::Vector3d up_prior(config_.graph.up_in_camera[0], config_.graph.up_in_camera[1], config_.graph.up_in_camera[2]);
-  const Eigen::Vector3d up = model.floor >= 0 ? model.planes[model.floor].plane.normal : up_prior.normalized();
+  const Eigen::Vector3d up_prior = UpPrior(config_.graph);
+  const Eigen::Vector3d up = model.floor >= 0 ? model.planes[model.floor].plane.normal : up_prior;
   EdgeTerminators terminators;
   terminators.structure = model.structure;
   terminators.up = up;

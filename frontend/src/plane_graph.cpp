@@ -26,17 +26,17 @@ double Extent(const Cloud& cloud, const DetectedPlane& plane) {
   return plane.inliers.empty() ? 0.0 : static_cast<double>((high - low).norm());
 }
 
-Eigen::Vector3d UpPrior(const PlaneGraphConfig& config) {
-  if (config.up_in_camera.size() != 3) return Eigen::Vector3d(0.0, -1.0, 0.0);
-  return Eigen::Vector3d(config.up_in_camera[0], config.up_in_camera[1], config.up_in_camera[2]).normalized();
-}
-
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
 }
 
 }  // namespace
+
+Eigen::Vector3d UpPrior(const PlaneGraphConfig& config) {
+  if (config.up_in_camera.size() != 3) return Eigen::Vector3d(0.0, -1.0, 0.0);
+  return Eigen::Vector3d(config.up_in_camera[0], config.up_in_camera[1], config.up_in_camera[2]).normalized();
+}
 
 void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
   const std::vector<DetectedPlane>& planes = model->planes;

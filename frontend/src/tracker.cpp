@@ -59,6 +59,18 @@ Pose3 SolveObservable(const std::vector<PlaneCorrespondence>& pairs, const Pose3
   return T;
 }
 
+// Counts one vote for `key` and returns the most voted key (the first on a tie).
+template <typename Key>
+Key Vote(std::vector<std::pair<Key, int>>* votes, const Key& key) {
+  auto it = std::find_if(votes->begin(), votes->end(), [&](const auto& v) { return v.first == key; });
+  if (it == votes->end()) {
+    votes->emplace_back(key, 1);
+  } else {
+    ++it->second;
+  }
+  return std::max_element(votes->begin(), votes->end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+}
+
 }  // namespace
 
 const char* ToString(TrackStatus status) {
@@ -345,15 +357,7 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
       if (std::find(mo.landmarks.begin(), mo.landmarks.end(), f) == mo.landmarks.end()) mo.landmarks.push_back(f);
     }
     std::sort(mo.landmarks.begin(), mo.landmarks.end());
-    // Class by vote.
-    auto vote = std::find_if(mo.label_votes.begin(), mo.label_votes.end(), [&](const auto& v) { return v.first == fo.label; });
-    if (vote == mo.label_votes.end()) {
-      mo.label_votes.emplace_back(fo.label, 1);
-    } else {
-      ++vote->second;
-    }
-    mo.label = std::max_element(mo.label_votes.begin(), mo.label_votes.end(),
-                                [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+    mo.label = Vote(&mo.label_votes, fo.label);
     // Dimensions: each frame axis adds to the map axis most parallel to it. A complete edge gives
     // the mean of complete observations; without any, the longest seen bounds it from below.
     const Eigen::Matrix3d frame_axes = R * fo.axes;
@@ -398,15 +402,7 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     }
     // Grasp axis: the normal of the landmark chosen as grasp side most often.
     if (fo.grasp_side >= 0 && landmark_of_plane[fo.grasp_side] >= 0) {
-      const int l = landmark_of_plane[fo.grasp_side];
-      auto g = std::find_if(mo.grasp_votes.begin(), mo.grasp_votes.end(), [&](const auto& v) { return v.first == l; });
-      if (g == mo.grasp_votes.end()) {
-        mo.grasp_votes.emplace_back(l, 1);
-      } else {
-        ++g->second;
-      }
-      mo.grasp_landmark = std::max_element(mo.grasp_votes.begin(), mo.grasp_votes.end(),
-                                           [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+      mo.grasp_landmark = Vote(&mo.grasp_votes, landmark_of_plane[fo.grasp_side]);
     }
     if (mo.grasp_landmark >= 0) {
       mo.grasp_axis = map_.landmarks[mo.grasp_landmark].plane.normal;

@@ -39,6 +39,9 @@ struct PlaneGraphConfig {
   }
 };
 
+// The configured up direction in the camera frame (unit), used until the floor is found.
+Eigen::Vector3d UpPrior(const PlaneGraphConfig& config);
+
 // Fills model->floor and model->structure from its planes (their inliers index into `cloud`).
 void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
 
