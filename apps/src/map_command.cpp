@@ -64,7 +64,7 @@ int RunMap(const MapOptions& options) {
   if (!trajectory || !log) ThrowInputError(options.out, 0, "cannot write trajectory.txt / tracking.csv");
   trajectory << "# planemap map " << options.sequence << ": T_world_camera, world = "
              << (anchored ? "ground truth (first pose)" : "first camera frame") << "\n# timestamp tx ty tz qx qy qz qw\n";
-  log << "frame,stamp,status,planes,matched,inliers,added,icp,frontend_ms,tracking_ms,reason\n";
+  log << "frame,stamp,status,planes,matched,inliers,added,refined,frontend_ms,tracking_ms,reason\n";
 
   const size_t frames = options.max_frames < 0 ? sequence.size() : std::min(sequence.size(), static_cast<size_t>(options.max_frames));
   int counts[3] = {0, 0, 0}, unreadable = 0;
@@ -95,7 +95,7 @@ int RunMap(const MapOptions& options) {
     std::string reason = r.reason;
     std::replace(reason.begin(), reason.end(), ',', ';');
     log << i << ',' << FormatStamp(frame.stamp) << ',' << ToString(r.status) << ',' << r.planes << ',' << r.matched << ','
-        << r.inliers << ',' << r.added << ',' << r.icp << ',' << frontend_ms.back() << ',' << tracking_ms.back() << ','
+        << r.inliers << ',' << r.added << ',' << r.refined << ',' << frontend_ms.back() << ',' << tracking_ms.back() << ','
         << reason << "\n" << std::flush;
     std::fprintf(stderr, "\rframe %zu/%zu: %s, %d planes, %d matched, map %zu planes %zu objects   ", i + 1, frames,
                  ToString(r.status), r.planes, r.matched, tracker.map().landmarks.size(), tracker.map().objects.size());

@@ -112,8 +112,9 @@ void ClassifyObjects(const PatternsConfig& patterns, const ObjectConfig& config,
     // The height is known when the top is seen or a vertical edge is complete; otherwise the
     // object may go on beyond the image and its height only bounds the true one from below.
     const double height = object.height;
-    bool height_known = object.dimension_complete[2];
-    for (size_t g = 0; g < graph.size(); ++g) height_known = height_known || orientation[g] == "horizontal";
+    object.height_known = object.dimension_complete[2];
+    for (size_t g = 0; g < graph.size(); ++g) object.height_known = object.height_known || orientation[g] == "horizontal";
+    const bool height_known = object.height_known;
     for (const GraphPattern& pattern : patterns.patterns) {
       if (pattern.max_height > 0 && (height > pattern.max_height || !height_known)) continue;
       if (pattern.min_height > 0 && height < pattern.min_height && height_known) continue;

@@ -4,8 +4,10 @@
 #pragma GCC diagnostic ignored "-Warray-bounds"
 #include "planemap/frontend/plane_registration.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -21,23 +23,20 @@ namespace {
 
 constexpr double kRadPerDeg = M_PI / 180.0;
 
-// Singular values of the matrices with rows sqrt(w / mean w) n, source and target alike (the
+// Singular values of the matrices with the unit normals as rows, source and target alike (the
 // smaller of the two): below `smallest` the normals do not span 3-D, below `middle` too they are
-// parallel. Dividing by the mean weight keeps the threshold independent of the weights' scale.
+// parallel. Whether the planes fix a pose is a matter of their directions only; the weights
+// decide how precisely, not whether (a heavy floor does not make two walls parallel).
 struct NormalSpread {
   double smallest = 0.0;
   double middle = 0.0;
 };
 
 NormalSpread ComputeSpread(const std::vector<PlaneCorrespondence>& correspondences) {
-  double weight_sum = 0.0;
-  for (const PlaneCorrespondence& c : correspondences) weight_sum += c.weight;
-  const double mean_weight = weight_sum / static_cast<double>(correspondences.size());
   Eigen::Matrix3d source = Eigen::Matrix3d::Zero(), target = Eigen::Matrix3d::Zero();
   for (const PlaneCorrespondence& c : correspondences) {
-    const double w = c.weight / mean_weight;
-    source += w * c.source.normal * c.source.normal.transpose();
-    target += w * c.target.normal * c.target.normal.transpose();
+    source += c.source.normal * c.source.normal.transpose();
+    target += c.target.normal * c.target.normal.transpose();
   }
   // Singular values of A are the square roots of the eigenvalues (ascending) of A^T A.
   const Eigen::Vector3d ls = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(source).eigenvalues();
@@ -61,25 +60,45 @@ std::string FirstInvalid(const std::vector<PlaneCorrespondence>& correspondences
 struct Consensus {
   Pose3 T_target_source = Pose3::Identity();
   std::vector<int> inliers;
+  double support = 0.0;   // sum of the inliers' weights
   double residual = 0.0;
 
   bool BetterThan(const Consensus& o) const {
-    return inliers.size() > o.inliers.size() || (inliers.size() == o.inliers.size() && residual < o.residual);
+    const double tolerance = 1e-9 * std::max(support, o.support);
+    return support > o.support + tolerance || (std::abs(support - o.support) <= tolerance && residual < o.residual);
   }
 };
 
 Consensus Score(const Pose3& T_target_source, const std::vector<PlaneCorrespondence>& correspondences,
                 const PlaneRansacConfig& config) {
-  Consensus consensus{T_target_source, {}, 0.0};
+  // Each pair's error over the thresholds; within a group only the best inlier counts.
   const double max_angle = config.inlier_angle_deg * kRadPerDeg;
+  std::vector<std::pair<int, double>> chosen;  // (pair, error), one per group, in first-seen order
+  std::vector<std::pair<int, size_t>> group_slot;
   for (size_t k = 0; k < correspondences.size(); ++k) {
-    const Plane predicted = TransformPlane(T_target_source, correspondences[k].source);
-    const double angle = NormalAngle(predicted, correspondences[k].target);
-    const double distance = std::abs(predicted.offset - correspondences[k].target.offset);
+    const PlaneCorrespondence& c = correspondences[k];
+    const Plane predicted = TransformPlane(T_target_source, c.source);
+    const double angle = NormalAngle(predicted, c.target);
+    const double distance = c.source_point ? std::abs(c.target.SignedDistance(T_target_source * *c.source_point))
+                                           : std::abs(predicted.offset - c.target.offset);
     if (angle > max_angle || distance > config.inlier_distance) continue;
-    consensus.inliers.push_back(static_cast<int>(k));
-    consensus.residual += std::pow(angle / max_angle, 2) + std::pow(distance / config.inlier_distance, 2);
+    const double error = std::pow(angle / max_angle, 2) + std::pow(distance / config.inlier_distance, 2);
+    auto slot = c.group < 0 ? group_slot.end()
+                            : std::find_if(group_slot.begin(), group_slot.end(), [&](const auto& g) { return g.first == c.group; });
+    if (slot == group_slot.end()) {
+      if (c.group >= 0) group_slot.emplace_back(c.group, chosen.size());
+      chosen.emplace_back(static_cast<int>(k), error);
+    } else if (error < chosen[slot->second].second) {
+      chosen[slot->second] = {static_cast<int>(k), error};
+    }
   }
+  Consensus consensus{T_target_source, {}, 0.0, 0.0};
+  for (const auto& [k, error] : chosen) {
+    consensus.inliers.push_back(k);
+    consensus.support += correspondences[k].weight;
+    consensus.residual += error;
+  }
+  std::sort(consensus.inliers.begin(), consensus.inliers.end());
   return consensus;
 }
 
@@ -177,7 +196,8 @@ std::optional<Pose3> SolvePlaneToPlane(const std::vector<PlaneCorrespondence>& c
 }
 
 PlaneRansacResult EstimatePoseRansac(const std::vector<PlaneCorrespondence>& correspondences,
-                                     const PlaneRansacConfig& config) {
+                                     const PlaneRansacConfig& config, const std::vector<Pose3>& hypotheses,
+                                     const std::function<double(const Pose3&)>& plausibility) {
   ValidateConfig(config, "ransac.");
   PlaneRansacResult result;
   const int n = static_cast<int>(correspondences.size());
@@ -185,32 +205,113 @@ PlaneRansacResult EstimatePoseRansac(const std::vector<PlaneCorrespondence>& cor
     result.reason = std::to_string(n) + " plane correspondences: RANSAC needs at least 3";
     return result;
   }
-  // 1. Hypotheses from minimal samples [20]; 2. the one most pairs agree with.
+  // 1. Hypotheses from minimal samples [20]; 2. the one most pairs agree with, their support
+  // scaled by the pose's plausibility (0: not considered).
+  const auto scored = [&](const Pose3& T) -> std::optional<Consensus> {
+    const double factor = plausibility ? plausibility(T) : 1.0;
+    if (!(factor > 0.0)) return std::nullopt;
+    Consensus consensus = Score(T, correspondences, config);
+    consensus.support *= factor;
+    return consensus;
+  };
   std::optional<Consensus> best;
+  for (const Pose3& T : hypotheses) {
+    std::optional<Consensus> candidate = scored(T);
+    if (candidate && (!best || candidate->BetterThan(*best))) best = std::move(candidate);
+  }
   std::string degenerate;
+  int inadmissible = 0;
   for (const std::array<int, 3>& s : Samples(n, config)) {
     const auto T = SolvePlaneToPlane(Select(correspondences, {s[0], s[1], s[2]}), config.min_normal_spread, &degenerate);
     if (!T) continue;
-    Consensus candidate = Score(*T, correspondences, config);
-    if (!best || candidate.BetterThan(*best)) best = std::move(candidate);
+    std::optional<Consensus> candidate = scored(*T);
+    if (!candidate) {
+      ++inadmissible;
+      continue;
+    }
+    if (!best || candidate->BetterThan(*best)) best = std::move(candidate);
   }
   if (!best) {
-    result.reason = "every sample of 3 plane correspondences was degenerate; last: " + degenerate;
+    result.reason = inadmissible > 0 ? "no admissible pose: " + std::to_string(inadmissible) + " samples gave poses ruled out"
+                                     : "every sample of 3 plane correspondences was degenerate; last: " + degenerate;
     return result;
   }
   if (best->inliers.size() < 3) {
     result.reason = "no pose explains 3 or more plane correspondences (best: " + std::to_string(best->inliers.size()) + ")";
     return result;
   }
-  // 3. Refit on all inliers; keep the sample's pose if the refit explains fewer pairs (or if
+  // 3. Refit on all inliers; keep the sample's pose if the refit has less support (or if
   // heavier, parallel inliers make the weighted set degenerate).
-  if (const auto T = SolvePlaneToPlane(Select(correspondences, best->inliers), config.min_normal_spread)) {
-    Consensus refit = Score(*T, correspondences, config);
-    if (refit.inliers.size() >= best->inliers.size()) best = std::move(refit);
+  const auto T = config.refit ? SolvePlaneToPlane(Select(correspondences, best->inliers), config.min_normal_spread) : std::nullopt;
+  if (T) {
+    std::optional<Consensus> refit = scored(*T);
+    if (refit && refit->support >= best->support) best = std::move(refit);
   }
   result.T_target_source = best->T_target_source;
   result.inliers = best->inliers;
   result.ok = true;
+  return result;
+}
+
+PointToPlaneResult AlignPointsToPlanes(const std::vector<PointsOnPlane>& groups, const Pose3& initial,
+                                       const Pose3& prior, double prior_weight, int max_iterations, double robust_scale) {
+  using Matrix6d = Eigen::Matrix<double, 6, 6>;
+  using Vector6d = Eigen::Matrix<double, 6, 1>;
+  PointToPlaneResult result;
+  result.T_target_source = initial;
+  Pose3& T = result.T_target_source;
+  for (int iteration = 0; iteration <= max_iterations; ++iteration) {
+    // With q = T p and the left perturbation q' = q + theta x q + rho, a point's residual
+    // r = n . q + d has the Jacobian a^T, a = (q x n, n) = A q + c with A = (-[n]x ; 0), c = (0 ; n).
+    // Sums over a group's points need only its moments moved into frame t.
+    Matrix6d H = Matrix6d::Zero();
+    Vector6d g = Vector6d::Zero();
+    double cost = 0.0, weight_sum = 0.0;
+    for (const PointsOnPlane& group : groups) {
+      if (group.source.w <= 0.0) continue;
+      const PointMoments moved = TransformMoments(T, group.source);
+      const Eigen::Vector3d& n = group.target.normal;
+      const double d = group.target.offset;
+      // Cauchy weight on the group's mean distance to its plane (point noise averages out of it;
+      // a wrong pairing does not).
+      const double mean_distance = n.dot(moved.Mean()) + d;
+      const double robust = robust_scale > 0.0 ? 1.0 / (1.0 + std::pow(mean_distance / robust_scale, 2)) : 1.0;
+      const double weight = group.weight * robust;
+      const double W = weight * moved.w;
+      const Eigen::Vector3d S = weight * moved.sum;        // sum w q
+      const Eigen::Matrix3d Q = weight * moved.sum_outer;  // sum w q q^T
+      Eigen::Matrix<double, 6, 3> A = Eigen::Matrix<double, 6, 3>::Zero();
+      A.topRows<3>() << 0.0, n.z(), -n.y(), -n.z(), 0.0, n.x(), n.y(), -n.x(), 0.0;  // -[n]x
+      Vector6d c = Vector6d::Zero();
+      c.tail<3>() = n;
+      H += A * Q * A.transpose() + A * S * c.transpose() + c * S.transpose() * A.transpose() + W * c * c.transpose();
+      g += A * Q * n + d * A * S + c * n.dot(S) + d * W * c;
+      cost += n.dot(Q * n) + 2.0 * d * n.dot(S) + d * d * W;
+      weight_sum += W;
+    }
+    result.information = H;
+    result.rms = weight_sum > 0.0 ? std::sqrt(std::max(0.0, cost) / weight_sum) : 0.0;
+    result.iterations = iteration;
+    if (iteration == max_iterations || weight_sum <= 0.0) break;
+    // The prior: e = Log(T prior^-1) ~ e0 + delta for the left perturbation.
+    const Pose3 E = T * prior.inverse();
+    const Eigen::AngleAxisd aa(E.linear());
+    Vector6d e0;
+    e0 << aa.angle() * aa.axis(), E.translation();
+    const double scale = prior_weight * std::max(H.trace() / 6.0, 1e-12);
+    const Matrix6d Hp = H + scale * Matrix6d::Identity();
+    const Vector6d delta = -Hp.ldlt().solve(g + scale * e0);
+    if (!delta.allFinite()) break;
+    Pose3 step = Pose3::Identity();
+    const double angle = delta.head<3>().norm();
+    if (angle > 0.0) step.linear() = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix();
+    step.translation() = delta.tail<3>();
+    T = step * T;
+    if (angle < 1e-9 && delta.tail<3>().norm() < 1e-9) {
+      result.iterations = iteration + 1;
+      max_iterations = iteration + 1;  // one more pass evaluates H and the cost at the solution
+    }
+  }
   return result;
 }
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 
 #include <Eigen/Dense>
 
@@ -31,44 +33,22 @@ Pose3 Exp(const Eigen::Matrix<double, 6, 1>& xi) {
   return T;
 }
 
-// What too few planes still fix: with two non-parallel normals the rotation (weighted Kabsch)
-// and the translation along both normals; the rest of the translation (along their common
-// direction) stays the prediction's. One plane or parallel planes: the prediction alone.
-Pose3 SolveObservable(const std::vector<PlaneCorrespondence>& pairs, const Pose3& predicted, std::string* reason) {
-  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (const PlaneCorrespondence& c : pairs) H += c.weight * c.source.normal * c.target.normal.transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  if (pairs.size() < 2 || svd.singularValues()(1) < 0.05 * svd.singularValues()(0)) {
-    *reason += "; pose predicted";
-    return predicted;
-  }
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
-  Pose3 T = Pose3::Identity();
-  T.linear() = svd.matrixV() * D * svd.matrixU().transpose();
-  // n_t . t = d_s - d_t for each pair, plus a weak pull to the predicted translation.
-  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  for (const PlaneCorrespondence& c : pairs) {
-    A += c.weight * c.target.normal * c.target.normal.transpose();
-    b += c.weight * c.target.normal * (c.source.offset - c.target.offset);
-  }
-  const double lambda = 1e-6 * A.trace();
-  T.translation() = (A + lambda * Eigen::Matrix3d::Identity()).ldlt().solve(b + lambda * predicted.translation());
-  *reason += "; rotation and translation across the planes solved, along them predicted";
-  return T;
+// The most voted key (the first on a tie); `votes` is not empty.
+template <typename Key>
+Key Winner(const std::vector<std::pair<Key, int>>& votes) {
+  return std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
 }
 
-// Counts one vote for `key` and returns the most voted key (the first on a tie).
+// Counts `weight` votes for `key` and returns the most voted key.
 template <typename Key>
-Key Vote(std::vector<std::pair<Key, int>>* votes, const Key& key) {
+Key Vote(std::vector<std::pair<Key, int>>* votes, const Key& key, int weight = 1) {
   auto it = std::find_if(votes->begin(), votes->end(), [&](const auto& v) { return v.first == key; });
   if (it == votes->end()) {
-    votes->emplace_back(key, 1);
+    votes->emplace_back(key, weight);
   } else {
-    ++it->second;
+    it->second += weight;
   }
-  return std::max_element(votes->begin(), votes->end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+  return Winner(*votes);
 }
 
 }  // namespace
@@ -82,18 +62,22 @@ const char* ToString(TrackStatus status) {
   return "?";
 }
 
-// A frame plane as the tracker uses it: camera-frame plane and inlier box, and its world form
-// under the current pose estimate.
+// A frame plane as the tracker uses it: camera-frame plane, inlier moments and box, and its
+// world form under the current pose estimate.
 struct Tracker::Observation {
   int plane = -1;                 // id in the frame model
   Plane camera;
+  PointMoments moments;           // its inliers, camera frame, weighted by DepthNoiseWeight
+  Eigen::Vector3d centroid_c;     // mean of its inliers, camera frame [m]
   Eigen::Vector3d low_c, high_c;  // inlier box, camera frame [m]
   Plane world;
+  Eigen::Vector3d centroid_w;     // [m]
   Eigen::Vector3d low_w, high_w;  // that box's corners moved into the world, boxed again [m]
   int inliers = 0;
 
   void Place(const Pose3& T_world_camera) {
     world = TransformPlane(T_world_camera, camera);
+    centroid_w = T_world_camera * centroid_c;
     low_w = Eigen::Vector3d::Constant(1e30);
     high_w = -low_w;
     for (int k = 0; k < 8; ++k) {
@@ -107,6 +91,9 @@ struct Tracker::Observation {
 
 Tracker::Tracker(const TrackingConfig& config, const Pose3& T_world_first) : config_(config), T_world_first_(T_world_first) {
   ValidateConfig(config_, "tracking.");
+  if (config_.refine != "points" && config_.refine != "icp" && config_.refine != "none") {
+    throw std::invalid_argument("tracking.refine must be points, icp or none, not '" + config_.refine + "'");
+  }
 }
 
 Pose3 Tracker::Predict(double stamp) const {
@@ -121,52 +108,77 @@ Pose3 Tracker::Predict(double stamp) const {
   return T1 * Exp(xi * (stamp - t1));
 }
 
-std::vector<int> Tracker::Associate(const std::vector<Observation>& observed) const {
-  // Candidate pairs by normal angle and offset after prediction, with overlapping extents; then
-  // each landmark and each plane used once, best score first.
-  struct Candidate {
-    double score;
-    int observation, landmark;
-  };
+std::vector<Tracker::Candidate> Tracker::Associate(const std::vector<Observation>& observed, double max_angle_deg,
+                                                   double max_distance, int per_plane, double drift) const {
+  // Gates: normals within max_angle, the patch's centroid within max_distance of the landmark's
+  // plane (measured where the patch is, so a far plane's normal error is not magnified by its
+  // distance from the world origin), extents that overlap. Several frame planes may take one
+  // landmark (a surface the segmenter split in two).
   std::vector<Candidate> candidates;
-  const double max_angle = config_.association.max_angle_deg * kDegToRad;
+  const double max_angle = max_angle_deg * kDegToRad;
   for (size_t i = 0; i < observed.size(); ++i) {
+    std::vector<Candidate> mine;
     for (const PlaneLandmark& l : map_.landmarks) {
+      // The prediction may be off by `drift` along the unobserved directions: as far as the
+      // landmark's normal points along them, its distance gate widens.
+      const double gate = max_distance + drift * (unobserved_ * l.plane.normal).norm();
       const double angle = NormalAngle(observed[i].world, l.plane);
-      const double distance = std::abs(observed[i].world.offset - l.plane.offset);
-      if (angle > max_angle || distance > config_.association.max_distance) continue;
-      if (!l.Overlaps(observed[i].low_w, observed[i].high_w, config_.association.overlap_margin)) continue;
-      candidates.push_back({angle / max_angle + distance / config_.association.max_distance, static_cast<int>(i), l.id});
+      const double distance = std::abs(l.plane.SignedDistance(observed[i].centroid_w));
+      if (angle > max_angle || distance > gate) continue;
+      if (!l.Overlaps(observed[i].low_w, observed[i].high_w, config_.association.overlap_margin + drift)) continue;
+      mine.push_back({static_cast<int>(i), l.id, angle / max_angle + distance / gate});
     }
+    std::sort(mine.begin(), mine.end(), [](const Candidate& a, const Candidate& b) {
+      return a.score < b.score || (a.score == b.score && a.landmark < b.landmark);
+    });
+    if (static_cast<int>(mine.size()) > per_plane) mine.resize(per_plane);
+    candidates.insert(candidates.end(), mine.begin(), mine.end());
   }
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
-    return a.score < b.score || (a.score == b.score && (a.observation < b.observation || (a.observation == b.observation && a.landmark < b.landmark)));
-  });
-  std::vector<int> landmark_of(observed.size(), -1);
-  std::vector<bool> used(map_.landmarks.size(), false);
-  for (const Candidate& c : candidates) {
-    if (landmark_of[c.observation] >= 0 || used[c.landmark]) continue;
-    landmark_of[c.observation] = c.landmark;
-    used[c.landmark] = true;
+  return candidates;
+}
+
+bool Tracker::Agrees(const Observation& o, const Plane& landmark) const {
+  return NormalAngle(o.world, landmark) <= config_.merge_max_angle_deg * kDegToRad &&
+         std::abs(landmark.SignedDistance(o.centroid_w)) <= config_.merge_max_distance;
+}
+
+std::optional<Eigen::Matrix3d> Tracker::SolveRotation(const std::vector<Candidate>& candidates,
+                                                     const std::vector<Observation>& observed) const {
+  // Weighted Kabsch on the normals (camera -> world) of each plane's best candidate.
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero(), spread = Eigen::Matrix3d::Zero();
+  int last = -1;
+  for (const Candidate& c : candidates) {  // best first within each plane
+    if (c.observation == last) continue;
+    last = c.observation;
+    const Eigen::Vector3d& n_world = map_.landmarks[c.landmark].plane.normal;
+    H += std::sqrt(static_cast<double>(observed[c.observation].inliers)) * observed[c.observation].camera.normal * n_world.transpose();
+    spread += n_world * n_world.transpose();
   }
-  return landmark_of;
+  const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread).eigenvalues();
+  if (std::sqrt(std::max(0.0, eigenvalues[1])) < config_.ransac.min_normal_spread) return std::nullopt;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  return Eigen::Matrix3d(svd.matrixV() * D * svd.matrixU().transpose());
 }
 
 TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double stamp) {
   const int frame = frame_++;
   TrackResult result;
-  // The frame's planes large enough to track, with their inlier boxes.
+  // The frame's planes large and near enough to track, with their inlier moments and boxes.
   std::vector<Observation> observed;
   for (const DetectedPlane& p : model.planes) {
-    if (static_cast<int>(p.inliers.size()) < config_.min_landmark_inliers) continue;
+    if (static_cast<int>(p.inliers.size()) < config_.min_landmark_inliers || p.centroid.z() > config_.max_depth) continue;
     Observation o;
     o.plane = p.id;
     o.camera = p.plane;
     o.inliers = static_cast<int>(p.inliers.size());
+    o.centroid_c = p.centroid;
     o.low_c = Eigen::Vector3d::Constant(1e30);
     o.high_c = -o.low_c;
-    for (size_t k = 0; k < p.inliers.size(); k += 4) {
-      const Eigen::Vector3d x = cloud[p.inliers[k]].getVector3fMap().cast<double>();
+    for (int index : p.inliers) {
+      const Eigen::Vector3d x = cloud[index].getVector3fMap().cast<double>();
+      o.moments.Add(x, DepthNoiseWeight(x.z()));
       o.low_c = o.low_c.cwiseMin(x);
       o.high_c = o.high_c.cwiseMax(x);
     }
@@ -175,48 +187,110 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   result.planes = static_cast<int>(observed.size());
 
   const Pose3 predicted = Predict(stamp);
+  result.T_predicted = predicted;
   Pose3 T = predicted;
+  Pose3 prior = predicted;  // what the refinement falls back on where no plane fixes the pose
   std::vector<int> landmark_of(observed.size(), -1);
   const bool first = map_.landmarks.empty() && history_.empty();
+  const AssociationConfig& gates = config_.association;
   if (first) {
     T = T_world_first_;
   } else {
+    // 1. Candidate pairs within wide gates of the prediction; RANSAC finds the pose most agree with.
+    // Since the last fully tracked frame the prediction's unobserved directions may have drifted
+    // by up to max_speed per second: the gates widen by as much, every landmark becomes a
+    // candidate, and RANSAC draws more samples, so tracking recovers when structure returns.
+    const double drift = unobserved_.trace() > 0.5 ? config_.max_speed * std::max(0.0, stamp - last_tracked_stamp_) : 0.0;
     for (Observation& o : observed) o.Place(predicted);
-    landmark_of = Associate(observed);
+    const std::vector<Candidate> candidates =
+        Associate(observed, gates.search_angle_deg, gates.search_distance,
+                  drift > 0.0 ? static_cast<int>(map_.landmarks.size()) : gates.max_candidates, drift);
     std::vector<PlaneCorrespondence> correspondences;
-    std::vector<int> observation_of;
-    for (size_t i = 0; i < observed.size(); ++i) {
-      if (landmark_of[i] < 0) continue;
-      // Weight by inlier count: big planes are fitted more precisely. (Inverse offset variances
-      // span four orders of magnitude and starve the minimal samples' spread test.)
-      correspondences.push_back({observed[i].camera, map_.landmarks[landmark_of[i]].plane,
-                                 std::sqrt(static_cast<double>(observed[i].inliers))});
-      observation_of.push_back(static_cast<int>(i));
+    for (const Candidate& c : candidates) {
+      const Observation& o = observed[c.observation];
+      // Weight: a plane's offset error grows with its depth's noise (z^2) and shrinks with its
+      // inliers, but only as their square root, as depth errors are correlated (steps, a bend).
+      const double z = std::max(o.centroid_c.z(), 0.5);
+      correspondences.push_back({o.camera, map_.landmarks[c.landmark].plane, std::sqrt(static_cast<double>(o.inliers)) / (z * z), o.centroid_c,
+                                 c.observation});
     }
-    result.matched = static_cast<int>(correspondences.size());
     // Weights relative to the best plane's, so the solver's spread test sees unit-scale rows.
     double max_weight = 0.0;
     for (const PlaneCorrespondence& c : correspondences) max_weight = std::max(max_weight, c.weight);
     for (PlaneCorrespondence& c : correspondences) c.weight /= max_weight;
-    const PlaneRansacResult ransac = EstimatePoseRansac(correspondences, config_.ransac);
+    // Poses the robot cannot have reached from the prediction (beyond max_correction, plus the
+    // drift along unobserved directions) are not hypotheses: parallel planes (a floor and a box
+    // top, a shelf's boards) would otherwise offer consistent false matches.
+    const auto plausibility = [&](const Pose3& T_candidate) {
+      const Pose3 correction = predicted.inverse() * T_candidate;
+      const Eigen::Vector3d moved = T_candidate.translation() - predicted.translation();  // world
+      const Eigen::Vector3d along_unobserved = unobserved_ * moved;
+      const double observed_part = (moved - along_unobserved).norm() / config_.max_correction;
+      const double unobserved_part = along_unobserved.norm() / (config_.max_correction + drift);
+      const double turn = RotationAngle(correction.linear()) / (config_.max_correction_deg * kDegToRad);
+      if (observed_part > 1.0 || unobserved_part > 1.0 || turn > 1.0) return 0.0;
+      return 1.0;
+    };
+    const auto reachable = [&](const Pose3& T_candidate) { return plausibility(T_candidate) > 0.0; };
+    PlaneRansacConfig ransac_config = config_.ransac;
+    if (drift > 0.0) ransac_config.max_iterations = std::max(ransac_config.max_iterations, config_.recovery_iterations);
+    const PlaneRansacResult ransac = EstimatePoseRansac(correspondences, ransac_config, {predicted}, plausibility);
     if (ransac.ok) {
+      // The closed form weighs offsets measured far from the origin; the inlier pairs' points
+      // against their landmarks' planes refine it before the final association.
+      std::vector<PointsOnPlane> groups;
+      for (int k : ransac.inliers) {
+        groups.push_back({observed[candidates[k].observation].moments, map_.landmarks[candidates[k].landmark].plane, 1.0});
+      }
       T = ransac.T_target_source;
-      result.inliers = static_cast<int>(ransac.inliers.size());
-      // Correspondences RANSAC rejected are not matches: those planes may become landmarks.
-      std::vector<bool> keep(correspondences.size(), false);
-      for (int i : ransac.inliers) keep[i] = true;
-      for (size_t k = 0; k < correspondences.size(); ++k) {
-        if (!keep[k]) landmark_of[observation_of[k]] = -2;  // neither matched nor new
+      const Pose3 aligned = AlignPointsToPlanes(groups, T, predicted, config_.prior_weight, config_.refine_iterations,
+                                                config_.refine_robust_scale).T_target_source;
+      if (config_.refine == "points" && reachable(aligned)) {
+        T = aligned;
+        result.refined = true;
       }
     } else {
       result.status = TrackStatus::kDegraded;
-      result.reason = std::to_string(result.matched) + " of " + std::to_string(result.planes) +
-                      " planes matched: " + ransac.reason;
-      T = SolveObservable(correspondences, predicted, &result.reason);
+      result.reason = std::to_string(candidates.size()) + " candidate pairs for " + std::to_string(result.planes) +
+                      " planes: " + ransac.reason + "; the directions the matched planes fix solved, the rest predicted";
+      // The rotation, when two non-parallel planes fix it, from each plane's best candidate:
+      // normals do not suffer from parallel look-alikes (a wall and a box face in front of it),
+      // offsets do, so the translation waits for the tight association below.
+      if (const auto R = SolveRotation(candidates, observed)) {
+        Pose3 rotated = predicted;
+        rotated.linear() = *R;
+        if (reachable(rotated)) T = rotated;
+      }
     }
+    prior = T;
+    // 2. At that pose (or the prediction), each plane's best landmark within the tight gates.
+    for (Observation& o : observed) o.Place(T);
+    for (const Candidate& c : Associate(observed, gates.max_angle_deg, gates.max_distance, 1, 0.0)) landmark_of[c.observation] = c.landmark;
+    for (int l : landmark_of) result.matched += l >= 0;
+    if (ransac.ok) result.inliers = static_cast<int>(ransac.inliers.size());
+  }
+  // Degraded: the tight matches refine what they fix (tracked frames were refined on RANSAC's
+  // inlier pairs above, which agree with each other; a later, looser pairing only adds risk).
+  std::vector<int> used;
+  for (size_t i = 0; i < observed.size(); ++i) {
+    if (landmark_of[i] >= 0 && result.status == TrackStatus::kDegraded) used.push_back(static_cast<int>(i));
   }
 
-  if (result.status == TrackStatus::kTracked && !first && config_.refine_icp) {
+  result.T_planes = T;
+  if (!first && !used.empty() && config_.refine == "points") {
+    // Every inlier of the used planes against its landmark's plane, from the closed-form pose (or,
+    // degraded, from the prediction), the prediction as a weak prior for what no plane fixes.
+    std::vector<PointsOnPlane> groups;
+    for (int i : used) groups.push_back({observed[i].moments, map_.landmarks[landmark_of[i]].plane, 1.0});
+    const PointToPlaneResult aligned =
+        AlignPointsToPlanes(groups, T, prior, config_.prior_weight, config_.refine_iterations, config_.refine_robust_scale);
+    const Pose3 correction = T.inverse() * aligned.T_target_source;
+    if (correction.translation().norm() < config_.refine_max_translation &&
+        RotationAngle(correction.linear()) < config_.refine_max_rotation_deg * kDegToRad) {
+      T = aligned.T_target_source;
+      result.refined = true;
+    }
+  } else if (result.status == TrackStatus::kTracked && !first && config_.refine == "icp") {
     // ICP on points rebuilt from the inliers of every extracted plane, against the landmarks'
     // points: it refines the closed-form pose with all the surface, not only the plane equations.
     pcl::PointCloud<pcl::PointNormal> source, target;
@@ -236,31 +310,70 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     if (!source.empty() && !target.empty()) {
       const IcpResult icp = RefineIcp(source, target, T, config_.icp);
       const Pose3 correction = T.inverse() * icp.T_target_source;
-      if (icp.converged && correction.translation().norm() < config_.icp_max_translation &&
-          RotationAngle(correction.linear()) < config_.icp_max_rotation_deg * kDegToRad) {
+      if (icp.converged && correction.translation().norm() < config_.refine_max_translation &&
+          RotationAngle(correction.linear()) < config_.refine_max_rotation_deg * kDegToRad) {
         T = icp.T_target_source;
-        result.icp = true;
+        result.refined = true;
       }
     }
   }
 
-  if (result.status == TrackStatus::kDegraded) {
-    if (++degraded_run_ > config_.lost_after) {
-      result.status = TrackStatus::kLost;
-      result.reason = "degraded for " + std::to_string(degraded_run_) + " frames: " + result.reason;
+  // Degraded: is the rotation still measured (two non-parallel matched planes, e.g. the floor and
+  // a wall)? Then only a translation is predicted and the frame still maps; else the heading
+  // drifts with the motion model, and after lost_after such frames the pose is lost.
+  bool rotation_observed = result.status == TrackStatus::kTracked;
+  Eigen::Matrix3d unobserved = Eigen::Matrix3d::Zero();  // projector onto what this frame's planes leave free
+  if (!first && result.status == TrackStatus::kDegraded) {
+    Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();
+    for (int i : used) normals += map_.landmarks[landmark_of[i]].plane.normal * map_.landmarks[landmark_of[i]].plane.normal.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(normals);
+    rotation_observed = std::sqrt(std::max(0.0, eigen.eigenvalues()[1])) >= config_.ransac.min_normal_spread;
+    if (!rotation_observed) result.reason += "; the rotation about the one plane normal is predicted too";
+    for (int k = 0; k < 3; ++k) {
+      if (std::sqrt(std::max(0.0, eigen.eigenvalues()[k])) < config_.ransac.min_normal_spread) {
+        unobserved += eigen.eigenvectors().col(k) * eigen.eigenvectors().col(k).transpose();
+      }
     }
-    result.T_world_camera = T;
-    return result;  // the map is not touched by a pose it cannot trust
   }
-  degraded_run_ = 0;
+  blind_run_ = rotation_observed || first ? 0 : blind_run_ + 1;
+  if (blind_run_ > config_.lost_after) {
+    result.status = TrackStatus::kLost;
+    result.reason = "rotation unobserved for " + std::to_string(blind_run_) + " frames: " + result.reason;
+  }
+  // The directions left unobserved since the last tracked frame: their union (a lost pose: all).
+  if (result.status == TrackStatus::kTracked) {
+    unobserved_.setZero();
+  } else if (result.status == TrackStatus::kLost) {
+    unobserved_.setIdentity();
+  } else {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(unobserved_ + unobserved);
+    unobserved_.setZero();
+    for (int k = 0; k < 3; ++k) {
+      if (eigen.eigenvalues()[k] > 0.5) unobserved_ += eigen.eigenvectors().col(k) * eigen.eigenvectors().col(k).transpose();
+    }
+  }
   result.T_world_camera = T;
+  if (result.status == TrackStatus::kLost) {
+    result.landmark_of_plane.assign(model.planes.size(), -1);
+    for (size_t i = 0; i < observed.size(); ++i) result.landmark_of_plane[observed[i].plane] = std::max(-1, landmark_of[i]);
+    return result;  // neither the motion model nor the map take a pose that may be anywhere
+  }
+  // The motion model remembers tracked and degraded poses: what their planes fix is measured.
   history_.emplace_back(stamp, T);
   while (history_.size() > 2 && history_.back().first - history_[1].first >= config_.velocity_window) history_.pop_front();
+  if (result.status == TrackStatus::kTracked) last_tracked_stamp_ = stamp;
 
-  // The map: matched landmarks take the frame's inliers; unmatched planes become landmarks.
+  // The map: matched landmarks take the frame's inliers if they agree with them at the final
+  // pose (a pairing that only the gates allowed must not bend a landmark); unmatched planes become
+  // landmarks.
   for (size_t i = 0; i < observed.size(); ++i) {
-    if (landmark_of[i] == -2) continue;
-    if (landmark_of[i] < 0) {
+    if (landmark_of[i] >= 0) {
+      observed[i].Place(T);
+      if (!Agrees(observed[i], map_.landmarks[landmark_of[i]].plane)) {
+        landmark_of[i] = -1;
+        continue;
+      }
+    } else {
       PlaneLandmark l;
       l.id = static_cast<int>(map_.landmarks.size());
       l.first_frame = frame;
@@ -271,17 +384,14 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     }
     PlaneLandmark& l = map_.landmarks[landmark_of[i]];
     const DetectedPlane& p = model.planes[observed[i].plane];
-    PointMoments moments;
-    for (size_t k = 0; k < p.inliers.size(); ++k) {
-      const Eigen::Vector3f pc = cloud[p.inliers[k]].getVector3fMap();
-      const Eigen::Vector3d pw = T * pc.cast<double>();
-      moments.Add(pw, DepthNoiseWeight(pc.z()));
+    for (size_t k = 0; k < p.inliers.size(); k += config_.point_stride) {
+      const Eigen::Vector3d pw = T * cloud[p.inliers[k]].getVector3fMap().cast<double>();
       l.low = l.low.cwiseMin(pw);
       l.high = l.high.cwiseMax(pw);
       const Eigen::Vector3f pwf = pw.cast<float>();
-      if (k % config_.point_stride == 0 && voxels_[l.id].insert(VoxelKey(pwf, config_.landmark_voxel)).second) l.points.push_back(pwf);
+      if (voxels_[l.id].insert(VoxelKey(pwf, config_.landmark_voxel)).second) l.points.push_back(pwf);
     }
-    l.moments += moments;
+    l.moments += TransformMoments(T, observed[i].moments);
     const PlaneFit fit = FitPlane(l.moments);
     const Plane observed_world = TransformPlane(T, p.plane);
     if (fit.ok) {
@@ -295,6 +405,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   std::vector<int> landmark_of_plane(model.planes.size(), -1);
   for (size_t i = 0; i < observed.size(); ++i) landmark_of_plane[observed[i].plane] = std::max(-1, landmark_of[i]);
   MergeEdgesAndObjects(model, landmark_of_plane, T);
+  result.landmark_of_plane = landmark_of_plane;
 
   // Keyframes: the first frame, then one per keyframe_distance or keyframe_angle_deg of motion.
   if (map_.keyframes.empty() ||
@@ -357,7 +468,9 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
       if (std::find(mo.landmarks.begin(), mo.landmarks.end(), f) == mo.landmarks.end()) mo.landmarks.push_back(f);
     }
     std::sort(mo.landmarks.begin(), mo.landmarks.end());
-    mo.label = Vote(&mo.label_votes, fo.label);
+    // Class: a view that measured the height (box or locker is decided by it) counts as
+    // decided_vote_weight views that only bounded it from below.
+    mo.label = Vote(&mo.label_votes, fo.label, fo.height_known ? config_.decided_vote_weight : 1);
     // Dimensions: each frame axis adds to the map axis most parallel to it. A complete edge gives
     // the mean of complete observations; without any, the longest seen bounds it from below.
     const Eigen::Matrix3d frame_axes = R * fo.axes;

@@ -62,6 +62,7 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
                    {"dimensions", Vec(o.dimensions)},
                    {"dimension_complete", {o.dimension_complete[0], o.dimension_complete[1], o.dimension_complete[2]}},
                    {"height", o.height},
+                   {"height_known", o.height_known},
                    {"center", Vec(o.center)},
                    {"axes", {Vec(o.axes.col(0)), Vec(o.axes.col(1)), Vec(o.axes.col(2))}},
                    {"grasp_sides", o.grasp_sides},

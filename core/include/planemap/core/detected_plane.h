@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include "planemap/core/plane.h"
+#include "planemap/core/pose.h"
 
 namespace planemap {
 
@@ -56,6 +57,17 @@ struct PointMoments {
   // Weighted scatter about the mean, divided by the sum of weights.
   Eigen::Matrix3d Covariance() const { return sum_outer / w - Mean() * Mean().transpose(); }
 };
+
+// The moments of the same points moved by T (p -> T p): exact, as the sums are polynomial in p.
+inline PointMoments TransformMoments(const Pose3& T, const PointMoments& m) {
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
+  PointMoments out = m;
+  out.sum = R * m.sum + m.w * t;
+  const Eigen::Matrix3d cross = R * m.sum * t.transpose();
+  out.sum_outer = R * m.sum_outer * R.transpose() + cross + cross.transpose() + m.w * t * t.transpose();
+  return out;
+}
 
 // Weight of a depth-camera point at depth z for plane fits: 1 / z^4, as a structured-light
 // sensor's depth noise grows with z^2.

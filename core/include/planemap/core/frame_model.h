@@ -49,6 +49,9 @@ struct FrameObject {
   Eigen::Vector3d dimensions = Eigen::Vector3d::Zero();  // longest edge along each axis [m]
   std::array<bool, 3> dimension_complete{};              // that edge is fully visible
   double height = 0.0;  // highest point above the floor (vertical extent without a floor) [m]
+  // The top was seen or a vertical edge is whole: `height` is measured, not only a lower bound,
+  // and a class that depends on it is decided rather than guessed.
+  bool height_known = false;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();      // eq. (7), mean over the angles [m]
   std::vector<int> grasp_sides;  // plane ids of faces a two-handed grasp could hold
   int grasp_side = -1;           // the chosen one (most facing the camera), -1 if none

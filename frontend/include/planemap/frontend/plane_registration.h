@@ -3,6 +3,7 @@
 // solution [13, 20] inside RANSAC, refined by point-to-plane ICP on points rebuilt from the planes'
 // inliers. Frames: source s (the current camera), target t (the map or an earlier frame); every
 // pose returned is T_target_source, so p_t = T * p_s and plane_t = TransformPlane(T, plane_s).
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,15 +23,22 @@ struct PlaneCorrespondence {
   Plane source;         // in frame s, unit normal
   Plane target;         // in frame t, unit normal
   double weight = 1.0;  // > 0, e.g. 1 / variance; scales the pair in both least-squares problems
+  // A point of the source plane's observed patch (its centroid), frame s. When set, RANSAC
+  // measures a pair's distance there (|target.SignedDistance(T p)|) instead of comparing offsets,
+  // which for a plane far from frame t's origin magnify a small normal error by the lever arm.
+  std::optional<Eigen::Vector3d> source_point;
+  // Pairs of one group are alternatives (one frame plane, several candidate landmarks): RANSAC
+  // counts at most one of them, the best fitting, as an inlier. -1: a group of its own.
+  int group = -1;
 };
 
 // Closed-form plane-to-plane registration [13, 20]. Rotation: weighted Kabsch on the unit normals,
 // maximising sum w n_t . (R n_s) by SVD with det(R) = +1. Translation: weighted linear least
 // squares on the offsets, n_t . t = d_s - d_t (from d_t = d_s - n_t . t). Returns T_target_source,
 // or nothing when fewer than 3 correspondences are given, a weight is not positive and finite,
-// or the normals do not span 3-D: the smallest singular value of the matrix with rows
-// sqrt(w / mean w) n (source and target alike) is below `min_normal_spread`. With equal weights,
-// three perpendicular planes give 1, and two perpendicular planes plus a third whose normal is
+// or the normals do not span 3-D: the smallest singular value of the matrix with the unit
+// normals as rows (source and target alike; weights play no part) is below `min_normal_spread`.
+// Three perpendicular planes give 1, and two perpendicular planes plus a third whose normal is
 // tilted by a out of their normals' plane give sqrt(2) sin(a / 2): 0.1 at 8 deg, 0.2 at 16 deg.
 // `reason` then says which: parallel planes, or coplanar normals (a corridor).
 std::optional<Pose3> SolvePlaneToPlane(const std::vector<PlaneCorrespondence>& correspondences,
@@ -43,6 +51,8 @@ struct PlaneRansacConfig {
   double min_normal_spread = 0.2; // a sample whose 3 normals' matrix has a smaller singular value
                                   // is degenerate (see SolvePlaneToPlane: 16 deg from coplanar)
   int seed = 1;                   // of the sampler, std::mt19937_64; same seed, same result
+  bool refit = true;              // refit the closed form on the winner's inliers (off: the winner's pose
+                                  // as it is, e.g. when a point-based refinement follows)
 
   template <class V>
   void VisitFields(V&& v) {
@@ -51,6 +61,7 @@ struct PlaneRansacConfig {
     v("inlier_distance", inlier_distance, Check::kPositive);
     v("min_normal_spread", min_normal_spread, Check::kPositive);
     v("seed", seed, Check::kNonNegative);
+    v("refit", refit);
   }
 };
 
@@ -62,11 +73,48 @@ struct PlaneRansacResult {
 };
 
 // RANSAC over correspondences (paper sec. 3: "RANSAC ... initialized in each frame with a direct
-// pose estimate [20]"): solve minimal samples of 3 non-degenerate pairs, keep the pose with most
-// inliers (ties: lower residual, errors over thresholds squared), refit on its inliers.
+// pose estimate [20]"): solve minimal samples of 3 non-degenerate pairs, keep the pose whose
+// inliers weigh most (sum of weights; ties: lower residual, errors over thresholds squared), so
+// three small noisy patches do not outvote the floor; refit on its inliers. `hypotheses` (e.g. a
+// motion model's prediction) are scored before the samples and win ties. When `plausibility` is
+// given, each pose's support is scaled by it (a prior: how likely the robot is there; 0 rules a
+// pose out, e.g. a jump a walking robot cannot make between two frames).
 // Throws std::invalid_argument for a bad config.
 PlaneRansacResult EstimatePoseRansac(const std::vector<PlaneCorrespondence>& correspondences,
-                                     const PlaneRansacConfig& config);
+                                     const PlaneRansacConfig& config, const std::vector<Pose3>& hypotheses = {},
+                                     const std::function<double(const Pose3&)>& plausibility = nullptr);
+
+// Point-to-plane alignment with the correspondences given by plane association: each observed
+// plane's inlier points (in frame s, as weighted moments, so the cost of thousands of points is
+// evaluated in constant time) against the target plane it was associated with. Minimises
+// sum_i w_i sum_p (n_i . (T p) + d_i)^2 by Gauss-Newton, which is point-to-plane ICP on the
+// "points rebuilt from the inliers" (sec. 4.2) where every point's partner is its plane's
+// landmark rather than a nearest neighbour; unlike a plane-to-plane fit it measures errors where
+// the points are, so a far plane's small normal error is not magnified by its lever arm.
+struct PointsOnPlane {
+  PointMoments source;  // the observed plane's inlier points, frame s (weights ~ 1 / variance)
+  Plane target;         // the plane they should lie on, frame t
+  double weight = 1.0;  // scales the whole group
+};
+
+struct PointToPlaneResult {
+  Pose3 T_target_source = Pose3::Identity();
+  // Gauss-Newton information of the left perturbation (rotation vector, translation) of T,
+  // prior excluded: its small eigenvalues are the directions the planes do not fix.
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  double rms = 0.0;     // weighted RMS point-to-plane distance at the solution [m]
+  int iterations = 0;
+};
+
+// Starts at `initial`; a weak prior pulls toward `prior` with information prior_weight * mean
+// diagonal of the data information (per direction), which keeps directions no plane observes
+// (one wall: the translation along it) at the prior and leaves observed ones to the data.
+// robust_scale > 0 reweights each group by 1 / (1 + (e / robust_scale)^2), e its points' mean
+// distance to its plane at the current pose (Cauchy, iteratively reweighted): a wrong pairing
+// does not drag the pose. Stops after max_iterations or when a step is below 1e-9 (rad and m).
+PointToPlaneResult AlignPointsToPlanes(const std::vector<PointsOnPlane>& groups, const Pose3& initial,
+                                       const Pose3& prior, double prior_weight = 1e-6, int max_iterations = 10,
+                                       double robust_scale = 0.0);
 
 struct IcpConfig {
   int max_iterations = 20;

@@ -6,6 +6,7 @@
 // previous frame; unmatched planes become landmarks, and the frame's edges and objects are merged
 // into the map's.
 #include <deque>
+#include <optional>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -18,13 +19,22 @@
 
 namespace planemap {
 
+// Two passes: candidates for RANSAC within wide gates around the predicted pose (a humanoid turns
+// on the spot faster than a constant-velocity model foresees), then, at RANSAC's pose, each plane's
+// one landmark within tight gates for the refinement and the map.
 struct AssociationConfig {
-  double max_angle_deg = 8.0;    // predicted normal within this of the landmark's [deg]
-  double max_distance = 0.08;    // predicted offset within this of the landmark's [m]
-  double overlap_margin = 0.15;  // the predicted inliers' box within this of the landmark's [m]
+  double search_angle_deg = 20.0;  // candidates: predicted normal within this of the landmark's [deg]
+  double search_distance = 0.30;   // ... and the predicted patch's centroid this close to its plane [m]
+  int max_candidates = 3;          // ... the best this many per frame plane
+  double max_angle_deg = 5.0;      // the match at the estimated pose: normals within this [deg]
+  double max_distance = 0.05;      // ... and the patch's centroid this close to the landmark's plane [m]
+  double overlap_margin = 0.15;    // both passes: the placed inliers' box within this of the landmark's [m]
 
   template <class V>
   void VisitFields(V&& v) {
+    v("search_angle_deg", search_angle_deg, Check::kPositive);
+    v("search_distance", search_distance, Check::kPositive);
+    v("max_candidates", max_candidates, Check::kPositive);
     v("max_angle_deg", max_angle_deg, Check::kPositive);
     v("max_distance", max_distance, Check::kPositive);
     v("overlap_margin", overlap_margin, Check::kNonNegative);
@@ -33,52 +43,97 @@ struct AssociationConfig {
 
 struct TrackingConfig {
   AssociationConfig association;
-  PlaneRansacConfig ransac;
+  // No closed-form refit: over many planes it weighs offsets measured far from the origin, and
+  // the point-based refinement that follows does better.
+  PlaneRansacConfig ransac = [] {
+    PlaneRansacConfig c;
+    c.refit = false;
+    return c;
+  }();
   IcpConfig icp;
-  bool refine_icp = true;             // false: the closed-form RANSAC pose as it is
-  int point_stride = 8;               // every n-th inlier is rebuilt as an ICP point
-  double icp_max_translation = 0.05;  // an ICP correction beyond this is refused [m]
-  double icp_max_rotation_deg = 3.0;  // ... or beyond this [deg]
-  int min_landmark_inliers = 1000;    // smaller planes are neither matched nor added [px]
-  double landmark_voxel = 0.05;       // a landmark keeps one point per voxel of this size [m]
-  double velocity_window = 1.0;       // the motion model's velocity spans this much time [s]
-  int lost_after = 30;                // degraded frames in a row before the pose is lost
-  double keyframe_distance = 0.25;    // a keyframe every this much motion ... [m]
-  double keyframe_angle_deg = 15.0;   // ... or turn [deg]
-  double object_match_distance = 0.25;  // a frame object joins a map object this close [m]
+  // After RANSAC: "points" aligns every inlier of the matched planes to its landmark plane
+  // (point-to-plane, partners from the association); "icp" runs PCL's point-to-plane ICP with
+  // nearest neighbours against the landmarks' voxel points; "none" keeps the closed-form pose.
+  // A pose this far from the motion model's prediction is not considered: a walking robot at a
+  // few frames per second cannot be there. Rotations are less predictable (a turn on the spot
+  // starts at once), so their bound is wider.
+  double max_correction = 0.15;          // [m]
+  double max_correction_deg = 20.0;      // [deg]
+  std::string refine = "points";
+  int refine_iterations = 10;            // Gauss-Newton iterations of "points"
+  double refine_robust_scale = 0.01;     // Cauchy scale on a plane's mean point distance, "points" [m]
+  double refine_max_translation = 0.05;  // a refinement moving the pose more is refused [m]
+  double refine_max_rotation_deg = 3.0;  // ... or turning it more [deg]
+  double prior_weight = 1e-6;            // pull toward the prediction, relative to the data (see AlignPointsToPlanes)
+  int point_stride = 8;                  // every n-th inlier becomes a landmark / ICP point
+  int min_landmark_inliers = 1000;       // smaller planes are neither matched nor added [px]
+  // Planes whose centroid is farther are neither matched nor added: a structured-light sensor's
+  // depth comes in steps of z^2 / 350 m (5 cm at 4 m), and far walls break into tilted strips.
+  double max_depth = 4.0;                // [m]
+  // A matched plane refines the pose (tracked) and updates its landmark only when, placed at the
+  // pose, its normal is within merge_max_angle_deg of the landmark's and its centroid within
+  // merge_max_distance of the landmark's plane.
+  double merge_max_angle_deg = 2.0;      // [deg]
+  double merge_max_distance = 0.02;      // [m]
+  double landmark_voxel = 0.05;          // a landmark keeps one point per voxel of this size [m]
+  double velocity_window = 1.0;          // the motion model's velocity spans this much time [s]
+  int lost_after = 30;                   // frames in a row without a measured rotation before the pose is lost
+  double max_speed = 0.3;                // while degraded, unobserved directions may drift this fast [m/s]
+  int recovery_iterations = 2000;        // RANSAC samples while degraded (wider search)
+  double keyframe_distance = 0.25;       // a keyframe every this much motion ... [m]
+  double keyframe_angle_deg = 15.0;      // ... or turn [deg]
+  double object_match_distance = 0.25;   // a frame object joins a map object this close [m]
+  int decided_vote_weight = 10;          // a view that measured an object's height counts as this many
+                                         // class votes as one that only bounded it from below
 
   template <class V>
   void VisitFields(V&& v) {
     v("association", association);
     v("ransac", ransac);
     v("icp", icp);
-    v("refine_icp", refine_icp);
+    v("max_correction", max_correction, Check::kPositive);
+    v("max_correction_deg", max_correction_deg, Check::kPositive);
+    v("refine", refine);
+    v("refine_iterations", refine_iterations, Check::kPositive);
+    v("refine_robust_scale", refine_robust_scale, Check::kNonNegative);
+    v("refine_max_translation", refine_max_translation, Check::kPositive);
+    v("refine_max_rotation_deg", refine_max_rotation_deg, Check::kPositive);
+    v("prior_weight", prior_weight, Check::kPositive);
     v("point_stride", point_stride, Check::kPositive);
-    v("icp_max_translation", icp_max_translation, Check::kPositive);
-    v("icp_max_rotation_deg", icp_max_rotation_deg, Check::kPositive);
     v("min_landmark_inliers", min_landmark_inliers, Check::kPositive);
+    v("max_depth", max_depth, Check::kPositive);
+    v("merge_max_angle_deg", merge_max_angle_deg, Check::kPositive);
+    v("merge_max_distance", merge_max_distance, Check::kPositive);
     v("landmark_voxel", landmark_voxel, Check::kPositive);
     v("velocity_window", velocity_window, Check::kPositive);
     v("lost_after", lost_after, Check::kPositive);
+    v("max_speed", max_speed, Check::kNonNegative);
+    v("recovery_iterations", recovery_iterations, Check::kPositive);
     v("keyframe_distance", keyframe_distance, Check::kPositive);
     v("keyframe_angle_deg", keyframe_angle_deg, Check::kPositive);
     v("object_match_distance", object_match_distance, Check::kPositive);
+    v("decided_vote_weight", decided_vote_weight, Check::kPositive);
   }
 };
 
 // tracked: pose from >= 3 non-parallel planes; degraded: too little structure (a corridor, one
-// wall), the pose is the motion model's prediction; lost: degraded for lost_after frames.
+// wall): what the matched planes fix is solved, the rest is the motion model's prediction, and the
+// frame still maps; lost: the rotation went unmeasured (one plane or none) for lost_after frames:
+// the pose is the prediction and neither the map nor the motion model take it.
 enum class TrackStatus { kTracked, kDegraded, kLost };
 const char* ToString(TrackStatus status);
 
 struct TrackResult {
   Pose3 T_world_camera = Pose3::Identity();
+  Pose3 T_predicted = Pose3::Identity();    // the motion model's pose
+  Pose3 T_planes = Pose3::Identity();       // the plane-to-plane pose, before ICP
+  std::vector<int> landmark_of_plane;       // per frame plane: the landmark it matched or became, else -1
   TrackStatus status = TrackStatus::kTracked;
   int planes = 0;       // frame planes large enough to track
   int matched = 0;      // associated with landmarks
   int inliers = 0;      // RANSAC inliers among them
   int added = 0;        // new landmarks
-  bool icp = false;     // the ICP refinement was accepted
+  bool refined = false; // the refinement (points or ICP) was accepted
   std::string reason;   // why the frame is degraded or lost; empty when tracked
 };
 
@@ -96,7 +151,20 @@ class Tracker {
  private:
   struct Observation;  // a frame plane in the world under a pose
   Pose3 Predict(double stamp) const;
-  std::vector<int> Associate(const std::vector<Observation>& observed) const;
+  struct Candidate {
+    int observation, landmark;
+    double score;  // angle / gate + distance / gate: lower is better
+  };
+  // Landmarks within the gates of each placed observation, best first, at most `per_plane` each.
+  // Whether a placed observation lies on `landmark` within merge_max_angle_deg / merge_max_distance.
+  bool Agrees(const Observation& o, const Plane& landmark) const;
+  // The world-from-camera rotation from the normals of each plane's best candidate, when they
+  // span two directions or more.
+  std::optional<Eigen::Matrix3d> SolveRotation(const std::vector<Candidate>& candidates,
+                                               const std::vector<Observation>& observed) const;
+  // The distance gate widens by `drift` times the landmark normal's part along unobserved_.
+  std::vector<Candidate> Associate(const std::vector<Observation>& observed, double max_angle_deg,
+                                   double max_distance, int per_plane, double drift) const;
   void MergeEdgesAndObjects(const FrameModel& model, const std::vector<int>& landmark_of_plane,
                             const Pose3& T_world_camera);
 
@@ -104,9 +172,13 @@ class Tracker {
   Pose3 T_world_first_;
   PlaneMap map_;
   std::vector<std::unordered_set<long long>> voxels_;  // per landmark: the voxels it holds
-  std::deque<std::pair<double, Pose3>> history_;        // tracked poses within velocity_window
+  std::deque<std::pair<double, Pose3>> history_;        // tracked and degraded poses within velocity_window
   int frame_ = 0;
-  int degraded_run_ = 0;
+  int blind_run_ = 0;                    // frames in a row whose rotation was not measured
+  double last_tracked_stamp_ = 0.0;
+  // Projector onto the world translation directions no plane has fixed since the last tracked
+  // frame (along a single wall: the wall's direction); zero while tracked.
+  Eigen::Matrix3d unobserved_ = Eigen::Matrix3d::Zero();
 };
 
 }  // namespace planemap
