@@ -40,4 +40,19 @@ Eigen::Matrix3d RotationBodyFromOptical() {
   return R;
 }
 
+Eigen::Matrix<double, 6, 1> RotationVectorAndTranslation(const Pose3& T) {
+  const Eigen::AngleAxisd aa(T.linear());
+  Eigen::Matrix<double, 6, 1> xi;
+  xi << aa.angle() * aa.axis(), T.translation();
+  return xi;
+}
+
+Pose3 PoseFromRotationVectorAndTranslation(const Eigen::Matrix<double, 6, 1>& xi) {
+  Pose3 T = Pose3::Identity();
+  const double angle = xi.head<3>().norm();
+  if (angle > 0.0) T.linear() = Eigen::AngleAxisd(angle, xi.head<3>() / angle).toRotationMatrix();
+  T.translation() = xi.tail<3>();
+  return T;
+}
+
 }  // namespace planemap

@@ -157,6 +157,13 @@ PointNormalCloud::Ptr Prepare(const PointNormalCloud& cloud, double leaf) {
 
 }  // namespace
 
+Eigen::Matrix3d RotationFromCorrelation(const Eigen::Matrix3d& H) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  return svd.matrixV() * D * svd.matrixU().transpose();
+}
+
 std::optional<Pose3> SolvePlaneToPlane(const std::vector<PlaneCorrespondence>& correspondences,
                                        double min_normal_spread, std::string* reason) {
   const auto fail = [&](const std::string& why) -> std::optional<Pose3> {
@@ -186,11 +193,8 @@ std::optional<Pose3> SolvePlaneToPlane(const std::vector<PlaneCorrespondence>& c
     A += c.weight * n_t * n_t.transpose();
     b += c.weight * n_t * (c.source.offset - c.target.offset);
   }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
   Pose3 T_target_source = Pose3::Identity();
-  T_target_source.linear() = svd.matrixV() * D * svd.matrixU().transpose();
+  T_target_source.linear() = RotationFromCorrelation(H);
   T_target_source.translation() = A.ldlt().solve(b);
   return T_target_source;
 }
@@ -294,20 +298,13 @@ PointToPlaneResult AlignPointsToPlanes(const std::vector<PointsOnPlane>& groups,
     result.iterations = iteration;
     if (iteration == max_iterations || weight_sum <= 0.0) break;
     // The prior: e = Log(T prior^-1) ~ e0 + delta for the left perturbation.
-    const Pose3 E = T * prior.inverse();
-    const Eigen::AngleAxisd aa(E.linear());
-    Vector6d e0;
-    e0 << aa.angle() * aa.axis(), E.translation();
+    const Vector6d e0 = RotationVectorAndTranslation(T * prior.inverse());
     const double scale = prior_weight * std::max(H.trace() / 6.0, 1e-12);
     const Matrix6d Hp = H + scale * Matrix6d::Identity();
     const Vector6d delta = -Hp.ldlt().solve(g + scale * e0);
     if (!delta.allFinite()) break;
-    Pose3 step = Pose3::Identity();
-    const double angle = delta.head<3>().norm();
-    if (angle > 0.0) step.linear() = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix();
-    step.translation() = delta.tail<3>();
-    T = step * T;
-    if (angle < 1e-9 && delta.tail<3>().norm() < 1e-9) {
+    T = PoseFromRotationVectorAndTranslation(delta) * T;
+    if (delta.head<3>().norm() < 1e-9 && delta.tail<3>().norm() < 1e-9) {
       result.iterations = iteration + 1;
       max_iterations = iteration + 1;  // one more pass evaluates H and the cost at the solution
     }

@@ -17,22 +17,6 @@ long long VoxelKey(const Eigen::Vector3f& p, double voxel) {
   return (cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z());
 }
 
-// Relative motion as a twist (rotation vector, translation) and back.
-Eigen::Matrix<double, 6, 1> Log(const Pose3& T) {
-  const Eigen::AngleAxisd aa(T.linear());
-  Eigen::Matrix<double, 6, 1> xi;
-  xi << aa.angle() * aa.axis(), T.translation();
-  return xi;
-}
-
-Pose3 Exp(const Eigen::Matrix<double, 6, 1>& xi) {
-  Pose3 T = Pose3::Identity();
-  const double angle = xi.head<3>().norm();
-  if (angle > 1e-12) T.linear() = Eigen::AngleAxisd(angle, xi.head<3>() / angle).toRotationMatrix();
-  T.translation() = xi.tail<3>();
-  return T;
-}
-
 // The most voted key (the first on a tie); `votes` is not empty.
 template <typename Key>
 Key Winner(const std::vector<std::pair<Key, int>>& votes) {
@@ -68,11 +52,12 @@ struct Tracker::Observation {
   int plane = -1;                 // id in the frame model
   Plane camera;
   PointMoments moments;           // its inliers, camera frame, weighted by DepthNoiseWeight
-  Eigen::Vector3d centroid_c;     // mean of its inliers, camera frame [m]
-  Eigen::Vector3d low_c, high_c;  // inlier box, camera frame [m]
+  Eigen::Vector3d centroid_c = Eigen::Vector3d::Zero();  // mean of its inliers, camera frame [m]
+  Eigen::Vector3d low_c = Eigen::Vector3d::Zero(), high_c = Eigen::Vector3d::Zero();  // inlier box, camera frame [m]
   Plane world;
-  Eigen::Vector3d centroid_w;     // [m]
-  Eigen::Vector3d low_w, high_w;  // that box's corners moved into the world, boxed again [m]
+  Eigen::Vector3d centroid_w = Eigen::Vector3d::Zero();  // [m]
+  // That box's corners moved into the world, boxed again [m].
+  Eigen::Vector3d low_w = Eigen::Vector3d::Zero(), high_w = Eigen::Vector3d::Zero();
   int inliers = 0;
 
   void Place(const Pose3& T_world_camera) {
@@ -104,8 +89,8 @@ Pose3 Tracker::Predict(double stamp) const {
   // applied in the camera frame for the time since the last tracked pose.
   const auto& [t0, T0] = history_.front();
   if (t1 - t0 <= 1e-6) return T1;
-  const Eigen::Matrix<double, 6, 1> xi = Log(T0.inverse() * T1) / (t1 - t0);
-  return T1 * Exp(xi * (stamp - t1));
+  const Eigen::Matrix<double, 6, 1> xi = RotationVectorAndTranslation(T0.inverse() * T1) / (t1 - t0);
+  return T1 * PoseFromRotationVectorAndTranslation(xi * (stamp - t1));
 }
 
 std::vector<Tracker::Candidate> Tracker::Associate(const std::vector<Observation>& observed, double max_angle_deg,
@@ -137,6 +122,13 @@ std::vector<Tracker::Candidate> Tracker::Associate(const std::vector<Observation
   return candidates;
 }
 
+std::vector<int> Tracker::LandmarkOfPlane(const FrameModel& model, const std::vector<Observation>& observed,
+                                          const std::vector<int>& landmark_of) {
+  std::vector<int> landmark_of_plane(model.planes.size(), -1);
+  for (size_t i = 0; i < observed.size(); ++i) landmark_of_plane[observed[i].plane] = std::max(-1, landmark_of[i]);
+  return landmark_of_plane;
+}
+
 bool Tracker::Agrees(const Observation& o, const Plane& landmark) const {
   return NormalAngle(o.world, landmark) <= config_.merge_max_angle_deg * kDegToRad &&
          std::abs(landmark.SignedDistance(o.centroid_w)) <= config_.merge_max_distance;
@@ -156,10 +148,7 @@ std::optional<Eigen::Matrix3d> Tracker::SolveRotation(const std::vector<Candidat
   }
   const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread).eigenvalues();
   if (std::sqrt(std::max(0.0, eigenvalues[1])) < config_.ransac.min_normal_spread) return std::nullopt;
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
-  return Eigen::Matrix3d(svd.matrixV() * D * svd.matrixU().transpose());
+  return RotationFromCorrelation(H);
 }
 
 TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double stamp) {
@@ -354,8 +343,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   }
   result.T_world_camera = T;
   if (result.status == TrackStatus::kLost) {
-    result.landmark_of_plane.assign(model.planes.size(), -1);
-    for (size_t i = 0; i < observed.size(); ++i) result.landmark_of_plane[observed[i].plane] = std::max(-1, landmark_of[i]);
+    result.landmark_of_plane = LandmarkOfPlane(model, observed, landmark_of);
     return result;  // neither the motion model nor the map take a pose that may be anywhere
   }
   // The motion model remembers tracked and degraded poses: what their planes fix is measured.
@@ -402,10 +390,8 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     ++l.observations;
     l.last_frame = frame;
   }
-  std::vector<int> landmark_of_plane(model.planes.size(), -1);
-  for (size_t i = 0; i < observed.size(); ++i) landmark_of_plane[observed[i].plane] = std::max(-1, landmark_of[i]);
-  MergeEdgesAndObjects(model, landmark_of_plane, T);
-  result.landmark_of_plane = landmark_of_plane;
+  result.landmark_of_plane = LandmarkOfPlane(model, observed, landmark_of);
+  MergeEdgesAndObjects(model, result.landmark_of_plane, T);
 
   // Keyframes: the first frame, then one per keyframe_distance or keyframe_angle_deg of motion.
   if (map_.keyframes.empty() ||

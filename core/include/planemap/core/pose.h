@@ -16,6 +16,12 @@ Pose3 MakePoseRpy(double roll, double pitch, double yaw, const Eigen::Vector3d& 
 // Rotation angle of R [rad], in [0, pi].
 double RotationAngle(const Eigen::Matrix3d& R);
 
+// A pose as (rotation vector [rad], translation [m]) and back: rotation and translation apart,
+// not the SE(3) exponential (the translation is taken as it is). Motion models and
+// Gauss-Newton steps on poses use this parametrisation.
+Eigen::Matrix<double, 6, 1> RotationVectorAndTranslation(const Pose3& T);
+Pose3 PoseFromRotationVectorAndTranslation(const Eigen::Matrix<double, 6, 1>& xi);
+
 // Interpolates between two poses: slerp on rotation, linear on translation; s in [0, 1].
 Pose3 Interpolate(const Pose3& T_a, const Pose3& T_b, double s);
 

@@ -32,6 +32,10 @@ struct PlaneCorrespondence {
   int group = -1;
 };
 
+// Weighted Kabsch: the rotation R (det +1) maximising sum w b . (R a) given the correlation
+// H = sum w a b^T, from H's SVD.
+Eigen::Matrix3d RotationFromCorrelation(const Eigen::Matrix3d& H);
+
 // Closed-form plane-to-plane registration [13, 20]. Rotation: weighted Kabsch on the unit normals,
 // maximising sum w n_t . (R n_s) by SVD with det(R) = +1. Translation: weighted linear least
 // squares on the offsets, n_t . t = d_s - d_t (from d_t = d_s - n_t . t). Returns T_target_source,

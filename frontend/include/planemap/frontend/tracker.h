@@ -156,6 +156,9 @@ class Tracker {
     double score;  // angle / gate + distance / gate: lower is better
   };
   // Landmarks within the gates of each placed observation, best first, at most `per_plane` each.
+  // Per frame-model plane: the landmark its observation matched or became, else -1.
+  static std::vector<int> LandmarkOfPlane(const FrameModel& model, const std::vector<Observation>& observed,
+                                          const std::vector<int>& landmark_of);
   // Whether a placed observation lies on `landmark` within merge_max_angle_deg / merge_max_distance.
   bool Agrees(const Observation& o, const Plane& landmark) const;
   // The world-from-camera rotation from the normals of each plane's best candidate, when they
