@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "planemap/core/tum_format.h"
+#include "planemap/io/plane_map_io.h"
 #include "test_support.h"
 
 namespace planemap {
@@ -35,7 +36,7 @@ CommandRun Planemap(const std::string& args, bool with_stderr = true) {
 }
 
 TEST(Cli, EverySubcommandHasHelp) {
-  for (const char* sub : {"", "render", "inspect", "frame"}) {
+  for (const char* sub : {"", "render", "inspect", "frame", "map", "eval", "merge"}) {
     const CommandRun run = Planemap(std::string(sub) + " --help");
     EXPECT_EQ(run.exit_code, 0) << sub;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << run.output;
@@ -209,6 +210,34 @@ TEST(Cli, EvalErrorsNameTheFile) {
   const CommandRun no_scene = Planemap("eval --groundtruth " + gt + " --estimate " + est + " --map m.json");
   EXPECT_EQ(no_scene.exit_code, 1);
   EXPECT_NE(no_scene.output.find("needs both --map"), std::string::npos) << no_scene.output;
+}
+
+TEST(Cli, MergeAlignsTwoMapFilesAndRebuildsTheBox) {
+  TempDir dir;
+  // Two maps of one room, the second's world moved 12 cm and turned 4 deg from the first's.
+  PlaneMap second = testing::SyntheticRoom();
+  TransformMap(MakePoseRpy(0.0, 0.0, 4.0 * M_PI / 180.0, Eigen::Vector3d(0.12, 0.0, 0.0)), &second);
+  const std::string a = dir.Write("a.json", PlaneMapJson(testing::SyntheticRoom()));
+  const std::string b = dir.Write("b.json", PlaneMapJson(second));
+  const CommandRun run = Planemap("merge " + a + " " + b + " --out " + dir.File("merged"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("planes: 6 + 6 -> 6 (6 fused)"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("object 0: box, 0.300 x 0.400 x 0.300 m, centre (1.500, 0.300, 0.150)"), std::string::npos)
+      << run.output;
+  // The merged map reads back whole.
+  const PlaneMap merged = ReadPlaneMapJson(dir.File("merged/map.json"));
+  EXPECT_EQ(merged.landmarks.size(), 6u);
+  EXPECT_EQ(merged.objects.size(), 1u);
+
+  // Bad input names the file and the field; maps that share nothing say why.
+  const std::string bad = dir.Write("bad.json", R"({"planes": [{"normal": [0, 0, 1], "offset": "far"}]})");
+  const CommandRun malformed = Planemap("merge " + a + " " + bad + " --out " + dir.File("bad"));
+  EXPECT_EQ(malformed.exit_code, 1);
+  EXPECT_NE(malformed.output.find(bad + ": planes[0].offset: expected a finite number"), std::string::npos) << malformed.output;
+  const std::string floor = dir.Write("floor.json", R"({"planes": [{"normal": [0, 0, 1], "offset": 0.0}]})");
+  const CommandRun apart = Planemap("merge " + a + " " + floor + " --out " + dir.File("apart"));
+  EXPECT_EQ(apart.exit_code, 1);
+  EXPECT_NE(apart.output.find("cannot align " + floor), std::string::npos) << apart.output;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "planemap/core/plane.h"
+#include "planemap/core/plane_map.h"
 #include "planemap/core/pose.h"
 
 namespace planemap::testing {
@@ -61,5 +62,17 @@ template <typename Fn>
   }
   return ::testing::AssertionFailure() << "no exception";
 }
+
+// A synthetic plane map: a room corner (floor, two walls) and a 0.3 x 0.4 x 0.3 m box centred at
+// (1.5, 0.3, 0.15), seen from a camera 50 cm above the origin looking along +x: the box's -x and
+// -y faces and its top, with their real intersections. World z up; normals face the camera.
+enum RoomPlane { kFloor, kWallX, kWallY, kBoxX, kBoxY, kBoxTop };
+PlaneMap SyntheticRoom();
+// A landmark on the rectangle centre +- half_u * u +- half_v * v (normal toward that camera),
+// sampled every 2 cm, its points kept one per 5 cm voxel.
+PlaneLandmark Rectangle(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& u, double half_u,
+                        const Eigen::Vector3d& v, double half_v);
+// An edge of such a map, seen once.
+MapEdge RoomEdge(int a, int b, const Eigen::Vector3d& start, const Eigen::Vector3d& end, bool complete, bool convex);
 
 }  // namespace planemap::testing

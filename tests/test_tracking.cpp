@@ -13,77 +13,16 @@
 #include "planemap/frontend/tracker.h"
 #include "planemap/io/tum_sequence.h"
 #include "planemap/sim/walk.h"
-#include "sim_views.h"
 #include "test_support.h"
+#include "tracked_walk.h"
 
 namespace planemap {
 namespace {
 
 using testing::SourcePath;
-using testing::XtionCamera;
-
-struct TrackedRun {
-  Trajectory truth, estimate;
-  std::vector<TrackStatus> status;
-  PlaneMap map;
-};
-
-// A Nao-like walk (10 cm/s, head sway, camera 52 cm up, 20 deg down) through `waypoints`, at
-// 5 Hz as the paper's robot ran; frames rendered with noise, then frontend and tracker. The
-// tracker starts at the true first pose, as `planemap map` does on a sequence with ground truth.
-TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed) {
-  sim::WalkConfig walk;
-  walk.waypoints = std::move(waypoints);
-  walk.rate = 5.0;
-  sim::RenderConfig render;
-  render.seed = seed;
-  const sim::VirtualCamera camera(scene, XtionCamera(), render);
-  const Frontend frontend(XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml")));
-  TrackedRun run;
-  run.truth = sim::GenerateWalk(walk);
-  Tracker tracker(TrackingConfig{}, run.truth.front().T_world_camera);
-  for (size_t k = 0; k < run.truth.size(); ++k) {
-    sim::RenderedFrame rendered = camera.Render(run.truth[k].T_world_camera, camera.FrameSeed(static_cast<int>(k)));
-    RgbdFrame frame;
-    frame.depth = std::move(rendered.depth);
-    frame.color = std::move(rendered.color);
-    frame.stamp = run.truth[k].stamp;
-    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, XtionCamera(), CloudConfig{});
-    const TrackResult r = tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp);
-    run.estimate.push_back({frame.stamp, r.T_world_camera});
-    if (std::getenv("PLANEMAP_TRACE")) {
-      const Pose3 e = run.truth[k].T_world_camera.inverse() * r.T_world_camera;
-      std::printf("frame %zu %s planes %d matched %d inliers %d added %d icp %d err %.1f mm %.2f deg %s\n", k, ToString(r.status), r.planes,
-                  r.matched, r.inliers, r.added, r.refined, 1000 * e.translation().norm(), RotationAngle(e.linear()) * 57.3, r.reason.c_str());
-    }
-    run.status.push_back(r.status);
-  }
-  run.map = tracker.map();
-  return run;
-}
-
-std::vector<ObjectTruth> Truths(const sim::Scene& scene) {
-  std::vector<ObjectTruth> truths;
-  for (const sim::SceneObject& o : scene.objects) truths.push_back({o.name, o.type, o.T_world_object, o.dimensions});
-  return truths;
-}
-
-std::vector<ObjectEstimate> Estimates(const PlaneMap& map) {
-  std::vector<ObjectEstimate> estimates;
-  for (const MapObject& o : map.objects) {
-    ObjectEstimate e;
-    e.id = o.id;
-    e.label = o.label;
-    e.dimensions = o.dimensions;
-    e.dimension_complete = o.dimension_complete;
-    e.center = o.center;
-    e.axes = o.axes;
-    if (o.has_grasp_axis) e.grasp_axis = o.grasp_axis;
-    e.observations = o.observations;
-    estimates.push_back(e);
-  }
-  return estimates;
-}
+using testing::TrackedRun;
+using testing::TrackWalk;
+using testing::Truths;
 
 // Each walk goes about 3.5 m past the scene's other furniture, turns, and approaches the box
 // diagonally to about 0.65 m, so that two of its sides and its top are seen whole (from a 52 cm
@@ -119,7 +58,7 @@ TEST_P(TrackedWalk, AteUnderTwoCentimetresNoFrameLostBoxSizeAndAxis) {
   EXPECT_LE(t.ate.translation.rmse, 0.02) << "m";
 
   // The map is in the ground truth's world (first pose anchored): no alignment for objects.
-  const std::vector<ObjectError> errors = EvaluateObjects(Truths(scene), Estimates(run.map), EvalConfig{});
+  const std::vector<ObjectError> errors = EvaluateObjects(Truths(scene), MapObjectEstimates(run.map), EvalConfig{});
   bool checked = false;
   for (const ObjectError& e : errors) {
     if (!e.found()) {

@@ -6,83 +6,20 @@
 #include <fstream>
 #include <optional>
 
-#include <nlohmann/json.hpp>
-
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/core/error.h"
 #include "planemap/core/object_eval.h"
 #include "planemap/core/trajectory_eval.h"
+#include "planemap/io/plane_map_io.h"
 #include "planemap/sim/scene.h"
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 namespace planemap {
 namespace {
 
 constexpr double kCm = 100.0;  // [cm/m]
-
-// --- map.json -----------------------------------------------------------------------------------
-
-Eigen::Vector3d ReadVector(const json& node, const std::string& file, const std::string& key) {
-  bool ok = node.is_array() && node.size() == 3;
-  for (size_t k = 0; ok && k < 3; ++k) ok = node[k].is_number() && std::isfinite(node[k].get<double>());
-  if (!ok) ThrowInputError(file, 0, key + ": expected 3 finite numbers, got " + node.dump());
-  return Eigen::Vector3d(node[0].get<double>(), node[1].get<double>(), node[2].get<double>());
-}
-
-ObjectEstimate ReadObject(const json& node, const std::string& file, const std::string& where) {
-  for (const char* key : {"label", "dimensions", "dimension_complete", "center", "axes"}) {
-    if (!node.contains(key)) ThrowInputError(file, 0, where + ": missing '" + key + "'");
-  }
-  ObjectEstimate object;
-  object.id = node.value("id", -1);
-  if (!node["label"].is_string()) ThrowInputError(file, 0, where + ".label: expected a string");
-  object.label = node["label"].get<std::string>();
-  object.dimensions = ReadVector(node["dimensions"], file, where + ".dimensions");
-  object.center = ReadVector(node["center"], file, where + ".center");
-  const json& complete = node["dimension_complete"];
-  if (!complete.is_array() || complete.size() != 3 || !complete[0].is_boolean() || !complete[1].is_boolean() ||
-      !complete[2].is_boolean()) {
-    ThrowInputError(file, 0, where + ".dimension_complete: expected 3 booleans, got " + complete.dump());
-  }
-  const json& axes = node["axes"];
-  if (!axes.is_array() || axes.size() != 3) ThrowInputError(file, 0, where + ".axes: expected 3 vectors");
-  for (int k = 0; k < 3; ++k) {
-    object.dimension_complete[k] = complete[k].get<bool>();
-    object.axes.col(k) = ReadVector(axes[k], file, where + ".axes[" + std::to_string(k) + "]");
-  }
-  if (node.contains("grasp_axis") && !node["grasp_axis"].is_null()) {
-    object.grasp_axis = ReadVector(node["grasp_axis"], file, where + ".grasp_axis");
-  }
-  object.observations = node.value("observations", 0);
-  return object;
-}
-
-// The objects of a map file written by `planemap map` (world frame, metres).
-std::vector<ObjectEstimate> ReadMapObjects(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) ThrowInputError(file, 0, "cannot open file");
-  json root;
-  try {
-    root = json::parse(in);
-  } catch (const json::exception& e) {
-    ThrowInputError(file, 0, std::string("not valid JSON: ") + e.what());
-  }
-  if (!root.is_object() || !root.contains("objects") || !root["objects"].is_array()) {
-    ThrowInputError(file, 0, "expected a map with an 'objects' list");
-  }
-  std::vector<ObjectEstimate> objects;
-  try {
-    for (size_t i = 0; i < root["objects"].size(); ++i) {
-      objects.push_back(ReadObject(root["objects"][i], file, "objects[" + std::to_string(i) + "]"));
-    }
-  } catch (const json::exception& e) {
-    ThrowInputError(file, 0, std::string("unexpected value: ") + e.what());
-  }
-  return objects;
-}
 
 // --- scene --------------------------------------------------------------------------------------
 
@@ -254,7 +191,7 @@ int RunEval(const EvalOptions& options) {
     const sim::Scene scene = LoadSceneOrSequence(options.scene);
     objects->scene = scene.name;
     const Pose3 T_groundtruth_map = ObjectAlignment(result, config.object_alignment, config_file);
-    for (const ObjectEstimate& o : ReadMapObjects(options.map)) {
+    for (const ObjectEstimate& o : MapObjectEstimates(ReadPlaneMapJson(options.map))) {
       objects->estimates.push_back(Transformed(T_groundtruth_map, o));
     }
     objects->errors = EvaluateObjects(Truths(scene), objects->estimates, config);

@@ -78,6 +78,16 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--config", eval.config, "Settings (YAML), see eval: in configs/default.yaml")->capture_default_str();
   eval_cmd->add_option("--csv", eval.csv, "Write every figure to this CSV file (kind,name,metric,value,unit)");
 
+  planemap::MergeOptions merge;
+  CLI::App* merge_cmd = app.add_subcommand(
+      "merge", "Merge two maps (map.json of planemap map): align by plane correspondences and ICP, fuse, rebuild objects");
+  merge_cmd->add_option("target", merge.target, "Map to merge into (its world frame is kept)")->required();
+  merge_cmd->add_option("source", merge.source, "Map merged into it")->required();
+  merge_cmd->add_option("--guess", merge.guess, "Source world in the target's: x y z [m] roll pitch yaw [deg]")->expected(6);
+  merge_cmd->add_option("--config", merge.config, "Settings (YAML), see merge: in configs/default.yaml")->capture_default_str();
+  merge_cmd->add_option("--patterns", merge.patterns, "Object graph patterns (YAML)")->capture_default_str();
+  merge_cmd->add_option("--out", merge.out, "Output folder")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   // Progress and log lines go to stderr; stdout carries only the command's results.
   spdlog::set_default_logger(spdlog::stderr_color_mt("planemap"));
@@ -91,6 +101,7 @@ int main(int argc, char** argv) {
     if (frame_cmd->parsed()) return planemap::RunFrame(frame);
     if (eval_cmd->parsed()) return planemap::RunEval(eval);
     if (map_cmd->parsed()) return planemap::RunMap(map);
+    if (merge_cmd->parsed()) return planemap::RunMerge(merge);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());
     return 1;

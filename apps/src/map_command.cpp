@@ -10,6 +10,7 @@
 #include "planemap/apps/commands.h"
 #include "planemap/core/error.h"
 #include "planemap/frontend/frontend.h"
+#include "planemap/frontend/map_merge.h"
 #include "planemap/frontend/tracker.h"
 #include "planemap/io/frame_model_io.h"
 #include "planemap/io/tum_sequence.h"
@@ -103,7 +104,9 @@ int RunMap(const MapOptions& options) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::fprintf(stderr, "\n");
 
-  const PlaneMap& map = tracker.map();
+  // Surfaces the tracker added twice (seen again from too far off to match) folded into one.
+  PlaneMap map = tracker.map();
+  const int fused = FuseDuplicateLandmarks(config.merge, &map);
   std::ofstream(out / "map.json") << PlaneMapJson(map) << "\n";
   WritePlaneMapPly((out / "map.ply").string(), map);
 
@@ -111,8 +114,8 @@ int RunMap(const MapOptions& options) {
   // xyz floats): the paper's argument for planes.
   const int tracked_frames = counts[0] + counts[1] + counts[2];
   std::printf("frames %d: tracked %d, degraded %d, lost %d, unreadable %d\n", tracked_frames, counts[0], counts[1], counts[2], unreadable);
-  std::printf("map: %zu planes, %zu edges, %zu objects, %zu keyframes, %.1f kB (a point cloud of the same frames: %.1f MB)\n",
-              map.landmarks.size(), map.edges.size(), map.objects.size(), map.keyframes.size(), map.MemoryBytes() / 1024.0,
+  std::printf("map: %zu planes (%d duplicates fused), %zu edges, %zu objects, %zu keyframes, %.1f kB (a point cloud of the same frames: %.1f MB)\n",
+              map.landmarks.size(), fused, map.edges.size(), map.objects.size(), map.keyframes.size(), map.MemoryBytes() / 1024.0,
               cloud_points * 3 * sizeof(float) / (1024.0 * 1024.0));
   for (const MapObject& o : map.objects) {
     std::printf("  object %d: %s, %.3f x %.3f x %.3f m%s, centre (%.3f, %.3f, %.3f), seen %d times\n", o.id, o.label.c_str(),

@@ -85,4 +85,21 @@ std::vector<ObjectError> EvaluateObjects(const std::vector<ObjectTruth>& truths,
   return errors;
 }
 
+std::vector<ObjectEstimate> MapObjectEstimates(const PlaneMap& map) {
+  std::vector<ObjectEstimate> estimates;
+  for (const MapObject& o : map.objects) {
+    ObjectEstimate e;
+    e.id = o.id;
+    e.label = o.label;
+    e.dimensions = o.dimensions;
+    e.dimension_complete = o.dimension_complete;
+    e.center = o.center;
+    e.axes = o.axes;
+    if (o.has_grasp_axis) e.grasp_axis = o.grasp_axis;
+    e.observations = o.observations;
+    estimates.push_back(e);
+  }
+  return estimates;
+}
+
 }  // namespace planemap

@@ -1,6 +1,9 @@
 #include "planemap/core/plane_map.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "planemap/core/plane.h"
 
 namespace planemap {
 
@@ -12,11 +15,59 @@ int PlaneMap::EdgeBetween(int a, int b) const {
   return -1;
 }
 
+long long VoxelKey(const Eigen::Vector3f& p, double voxel) {
+  const auto cell = [&](float x) { return static_cast<long long>(std::floor(x / voxel)) + (1LL << 20); };
+  return (cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z());
+}
+
+int PlaneMap::Floor() const {
+  int floor = -1;
+  for (const PlaneLandmark& l : landmarks) {
+    if (l.floor_votes > 0 && (floor < 0 || l.floor_votes > landmarks[floor].floor_votes)) floor = l.id;
+  }
+  return floor;
+}
+
 std::size_t PlaneMap::MemoryBytes() const {
   std::size_t bytes = sizeof(PlaneMap) + edges.size() * sizeof(MapEdge) + keyframes.size() * sizeof(Keyframe);
   for (const PlaneLandmark& l : landmarks) bytes += sizeof(PlaneLandmark) + l.points.size() * sizeof(Eigen::Vector3f);
   for (const MapObject& o : objects) bytes += sizeof(MapObject) + o.landmarks.size() * sizeof(int) + o.label.size();
   return bytes;
+}
+
+void TransformMap(const Pose3& T, PlaneMap* map) {
+  const Eigen::Matrix3d R = T.linear();
+  for (PlaneLandmark& l : map->landmarks) {
+    l.plane = TransformPlane(T, l.plane);
+    l.moments = TransformMoments(T, l.moments);
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(1e30), high = -low;
+    for (Eigen::Vector3f& p : l.points) {
+      p = (T * p.cast<double>()).cast<float>();
+      low = low.cwiseMin(p.cast<double>());
+      high = high.cwiseMax(p.cast<double>());
+    }
+    if (l.low.x() <= l.high.x()) {  // the extent's box moved, boxed again
+      for (int k = 0; k < 8; ++k) {
+        const Eigen::Vector3d c((k & 1) ? l.high.x() : l.low.x(), (k & 2) ? l.high.y() : l.low.y(), (k & 4) ? l.high.z() : l.low.z());
+        low = low.cwiseMin(T * c);
+        high = high.cwiseMax(T * c);
+      }
+      l.low = low;
+      l.high = high;
+    }
+  }
+  for (MapEdge& e : map->edges) {
+    e.start = T * e.start;
+    e.end = T * e.end;
+  }
+  for (MapObject& o : map->objects) {
+    o.axes = R * o.axes;
+    o.center = T * o.center;
+    o.grasp_axis = R * o.grasp_axis;
+    o.center_sum = R * o.center_sum + o.center_count * T.translation();
+    o.partial_center_sum = R * o.partial_center_sum + o.partial_center_count * T.translation();
+  }
+  for (Keyframe& k : map->keyframes) k.T_world_camera = T * k.T_world_camera;
 }
 
 }  // namespace planemap

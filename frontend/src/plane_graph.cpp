@@ -60,11 +60,13 @@ void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameMode
 }
 
 void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
+  FindStructure(cloud, config, model);
+  AggregateObjects(config, model);
+}
+
+void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   const std::vector<DetectedPlane>& planes = model->planes;
   const size_t n = planes.size();
-
-  // 1. The floor and the other room structure.
-  FindStructure(cloud, config, model);
 
   // 2. Trihedral angles: 3-cycles of the graph whose three planes meet in a corner near all
   //    three edges.

@@ -12,29 +12,6 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-long long VoxelKey(const Eigen::Vector3f& p, double voxel) {
-  const auto cell = [&](float x) { return static_cast<long long>(std::floor(x / voxel)) + (1LL << 20); };
-  return (cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z());
-}
-
-// The most voted key (the first on a tie); `votes` is not empty.
-template <typename Key>
-Key Winner(const std::vector<std::pair<Key, int>>& votes) {
-  return std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
-}
-
-// Counts `weight` votes for `key` and returns the most voted key.
-template <typename Key>
-Key Vote(std::vector<std::pair<Key, int>>* votes, const Key& key, int weight = 1) {
-  auto it = std::find_if(votes->begin(), votes->end(), [&](const auto& v) { return v.first == key; });
-  if (it == votes->end()) {
-    votes->emplace_back(key, weight);
-  } else {
-    it->second += weight;
-  }
-  return Winner(*votes);
-}
-
 }  // namespace
 
 const char* ToString(TrackStatus status) {
@@ -391,6 +368,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     l.last_frame = frame;
   }
   result.landmark_of_plane = LandmarkOfPlane(model, observed, landmark_of);
+  if (model.floor >= 0 && result.landmark_of_plane[model.floor] >= 0) ++map_.landmarks[result.landmark_of_plane[model.floor]].floor_votes;
   MergeEdgesAndObjects(model, result.landmark_of_plane, T);
 
   // Keyframes: the first frame, then one per keyframe_distance or keyframe_angle_deg of motion.
@@ -416,6 +394,7 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     }
     MapEdge& m = map_.edges[k];
     ++m.observations;
+    ++(e.convex ? m.convex_views : m.concave_views);
     m.complete = m.complete || e.Complete();
     if (e.length > m.length) {
       m.length = e.length;

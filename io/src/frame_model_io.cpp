@@ -129,44 +129,6 @@ void WriteFrameModelPly(const std::string& file, const FrameModel& model, const 
   WritePly(file, "planemap frame model: planes (inliers), edges, corners, centres, grasp axes", ply.vertices, ply.lines);
 }
 
-std::string PlaneMapJson(const PlaneMap& map, int indent) {
-  json j;
-  j["frame"] = "world";
-  j["units"] = "metres";
-  j["planes"] = json::array();
-  for (const PlaneLandmark& l : map.landmarks) {
-    j["planes"].push_back({{"id", l.id}, {"normal", Vec(l.plane.normal)}, {"offset", l.plane.offset},
-                           {"extent_low", Vec(l.low)}, {"extent_high", Vec(l.high)}, {"points", l.points.size()},
-                           {"observations", l.observations}, {"first_frame", l.first_frame}, {"last_frame", l.last_frame}});
-  }
-  j["edges"] = json::array();
-  for (const MapEdge& e : map.edges) {
-    j["edges"].push_back({{"planes", {e.landmark_a, e.landmark_b}}, {"start", Vec(e.start)}, {"end", Vec(e.end)},
-                          {"length", e.length}, {"complete", e.complete}, {"observations", e.observations}});
-  }
-  j["objects"] = json::array();
-  for (const MapObject& o : map.objects) {
-    json object = {{"id", o.id},
-                   {"label", o.label},
-                   {"planes", o.landmarks},
-                   {"dimensions", Vec(o.dimensions)},
-                   {"dimension_complete", {o.dimension_complete[0], o.dimension_complete[1], o.dimension_complete[2]}},
-                   {"center", Vec(o.center)},
-                   {"axes", {Vec(o.axes.col(0)), Vec(o.axes.col(1)), Vec(o.axes.col(2))}},
-                   {"grasp_axis", o.has_grasp_axis ? Vec(o.grasp_axis) : json(nullptr)},
-                   {"observations", o.observations}};
-    j["objects"].push_back(object);
-  }
-  j["keyframes"] = json::array();
-  for (const Keyframe& k : map.keyframes) {
-    const Eigen::Quaterniond q(k.T_world_camera.linear());
-    j["keyframes"].push_back({{"frame", k.frame}, {"stamp", k.stamp}, {"position", Vec(k.T_world_camera.translation())},
-                              {"quaternion_xyzw", {q.x(), q.y(), q.z(), q.w()}}});
-  }
-  j["memory_bytes"] = map.MemoryBytes();
-  return j.dump(indent);
-}
-
 void WritePlaneMapPly(const std::string& file, const PlaneMap& map) {
   PlyBuilder ply;
   for (const PlaneLandmark& l : map.landmarks) {

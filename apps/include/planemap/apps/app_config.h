@@ -5,6 +5,7 @@
 #include "planemap/core/config.h"
 #include "planemap/core/trajectory_eval.h"
 #include "planemap/frontend/frontend.h"
+#include "planemap/frontend/map_merge.h"
 #include "planemap/frontend/tracker.h"
 #include "planemap/io/tum_sequence.h"
 #include "planemap/sim/virtual_camera.h"
@@ -16,6 +17,7 @@ struct AppConfig {
   sim::RenderConfig render;
   FrontendConfig frontend;
   TrackingConfig tracking;
+  MapMergeConfig merge;
   EvalConfig eval;
 
   template <class V>
@@ -24,6 +26,7 @@ struct AppConfig {
     v("render", render);
     v("frontend", frontend);
     v("tracking", tracking);
+    v("merge", merge);
     v("eval", eval);
   }
 };

@@ -2,6 +2,7 @@
 // The planemap subcommands. Each takes its options and returns the process exit code; bad input
 // throws InputError, which main() prints as one line.
 #include <string>
+#include <vector>
 
 namespace planemap {
 
@@ -55,6 +56,16 @@ struct EvalOptions {
   std::string csv;          // empty: no CSV
 };
 
+struct MergeOptions {
+  std::string target;   // map.json of the map the other is merged into (its world is kept)
+  std::string source;   // map.json merged into it
+  std::vector<double> guess;  // the source world's pose in the target's: x y z [m] roll pitch yaw [deg]; empty: identity
+  std::string config = "configs/default.yaml";
+  std::string patterns = "configs/patterns.yaml";
+  std::string out = "out/merged";  // map.json, map.ply
+};
+
+int RunMerge(const MergeOptions& options);
 int RunRender(const RenderOptions& options);
 int RunMap(const MapOptions& options);
 int RunFrame(const FrameOptions& options);

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "planemap/core/plane_map.h"
 #include "planemap/core/pose.h"
 #include "planemap/core/trajectory_eval.h"
 
@@ -25,6 +26,9 @@ struct ObjectEstimate {
   std::optional<Eigen::Vector3d> grasp_axis;            // unit, when a grasp side was chosen
   int observations = 0;
 };
+
+// The objects of a map, as estimates.
+std::vector<ObjectEstimate> MapObjectEstimates(const PlaneMap& map);
 
 // An object of the scene's ground truth.
 struct ObjectTruth {

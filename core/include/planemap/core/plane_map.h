@@ -3,6 +3,7 @@
 // them, and keyframes (paper section 4.2). World frame throughout. Its size grows with the number
 // of planes and objects, not with frames: each landmark keeps fixed-size point moments and a
 // voxel sample of its surface whose size is bounded by the plane's area.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <string>
@@ -25,6 +26,7 @@ struct PlaneLandmark {
   Eigen::Vector3d high = Eigen::Vector3d::Constant(-1e30);
   std::vector<Eigen::Vector3f> points;  // one point per voxel of its surface (world) [m]
   int observations = 0;             // frames that saw it
+  int floor_votes = 0;              // frames that took it for the floor
   int first_frame = -1, last_frame = -1;
 
   bool Overlaps(const Eigen::Vector3d& low_other, const Eigen::Vector3d& high_other, double margin) const {
@@ -39,6 +41,8 @@ struct MapEdge {
   double length = 0.0;                   // [m]
   bool complete = false;                 // seen with neither end cut at least once
   int observations = 0;
+  int convex_views = 0, concave_views = 0;  // how each view judged it (see PlaneEdge::convex)
+  bool Convex() const { return convex_views >= concave_views; }
 };
 
 struct MapObject {
@@ -78,8 +82,36 @@ struct PlaneMap {
 
   // Index into `edges` of the edge between two landmarks, or -1.
   int EdgeBetween(int a, int b) const;
+  // The landmark most often taken for the floor, or -1.
+  int Floor() const;
   // Bytes held: the structs and their vectors' contents.
   std::size_t MemoryBytes() const;
 };
+
+// A voxel's key (cells of `voxel` metres, |coordinates| below 2^20 cells): a landmark keeps
+// one point per key.
+long long VoxelKey(const Eigen::Vector3f& p, double voxel);
+
+// The most voted key (the first on a tie); `votes` is not empty.
+template <typename Key>
+Key Winner(const std::vector<std::pair<Key, int>>& votes) {
+  return std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+}
+
+// Counts `weight` votes for `key` and returns the most voted key.
+template <typename Key>
+Key Vote(std::vector<std::pair<Key, int>>* votes, const Key& key, int weight = 1) {
+  auto it = std::find_if(votes->begin(), votes->end(), [&](const auto& v) { return v.first == key; });
+  if (it == votes->end()) {
+    votes->emplace_back(key, weight);
+  } else {
+    it->second += weight;
+  }
+  return Winner(*votes);
+}
+
+// Moves every part of the map by T (world -> T * world): planes, moments, points, extents,
+// edges, objects and keyframes.
+void TransformMap(const Pose3& T, PlaneMap* map);
 
 }  // namespace planemap

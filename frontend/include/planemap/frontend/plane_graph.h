@@ -45,8 +45,12 @@ Eigen::Vector3d UpPrior(const PlaneGraphConfig& config);
 // Fills model->floor and model->structure from its planes (their inliers index into `cloud`).
 void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
 
-// Fills model->floor, model->structure (FindStructure), model->angles and model->objects from its
-// planes and edges.
+// Fills model->angles and model->objects from its planes, edges, floor and structure: the
+// trihedral angles, aggregated into objects angle by angle. Needs no points, so a map's graph
+// (landmarks and merged edges) is aggregated the same way (Fig. 4).
+void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model);
+
+// FindStructure, then AggregateObjects.
 void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
 
 }  // namespace planemap

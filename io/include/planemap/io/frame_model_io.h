@@ -10,6 +10,7 @@
 #include "planemap/core/image.h"
 #include "planemap/core/intrinsics.h"
 #include "planemap/core/plane_map.h"
+#include "planemap/io/plane_map_io.h"
 
 namespace planemap {
 
@@ -20,10 +21,6 @@ std::string FrameModelJson(const FrameModel& model, int indent = 2);
 void WriteFrameModelPly(const std::string& file, const FrameModel& model, const std::vector<Eigen::Vector3f>& points);
 
 // Colour image with each plane's inliers tinted, edges, corners, centres and grasp axes drawn.
-// A map as JSON (world frame, metres): planes, edges, objects with class, dimensions, centre,
-// axes and grasp axis, keyframes and the map's size in bytes.
-std::string PlaneMapJson(const PlaneMap& map, int indent = 2);
-
 // A map as PLY: each landmark's voxel points, edges, object centres and axes, keyframes.
 void WritePlaneMapPly(const std::string& file, const PlaneMap& map);
 

@@ -1,0 +1,210 @@
+// Merging maps (paper Fig. 4): a known transform between two maps of one synthetic room is
+// recovered, landmarks of one surface fused, each merged edge the longest of its pair, the box
+// re-aggregated from the merged graph and re-classified; two halves of a rendered walk, tracked
+// into maps with different worlds, merge into one map whose box matches the scene.
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "planemap/frontend/map_merge.h"
+#include "planemap/io/plane_map_io.h"
+#include "planemap/sim/scene.h"
+#include "test_support.h"
+#include "tracked_walk.h"
+
+namespace planemap {
+namespace {
+
+using testing::kBoxTop;
+using testing::kBoxX;
+using testing::kBoxY;
+using testing::kFloor;
+using testing::kWallX;
+using testing::Rectangle;
+using testing::RoomEdge;
+using testing::SourcePath;
+using testing::SyntheticRoom;
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+// The frontend's default graph and object settings, the shipped patterns.
+ObjectModel Objects() {
+  ObjectModel model;
+  model.patterns = LoadPatterns(SourcePath("configs/patterns.yaml"));
+  return model;
+}
+
+double MergedLength(const PlaneMap& map, int a, int b) {
+  const int k = map.EdgeBetween(a, b);
+  return k < 0 ? -1.0 : map.edges[k].length;
+}
+
+TEST(MapMerge, RebuildsTheBoxFromTheGraph) {
+  PlaneMap map = SyntheticRoom();
+  RebuildObjects(Objects(), 0.25, &map);
+  ASSERT_EQ(map.objects.size(), 1u);
+  const MapObject& box = map.objects[0];
+  EXPECT_EQ(box.label, "box");
+  EXPECT_EQ(box.landmarks, (std::vector<int>{kBoxX, kBoxY, kBoxTop}));
+  // The largest vertical face (-x, 0.4 x 0.3 m) gives the x axis: its dimensions, in cm.
+  EXPECT_NEAR(100 * box.dimensions.x(), 30.0, 0.1);
+  EXPECT_NEAR(100 * box.dimensions.y(), 40.0, 0.1);
+  EXPECT_NEAR(100 * box.dimensions.z(), 30.0, 0.1);
+  EXPECT_LT(100 * (box.center - Eigen::Vector3d(1.5, 0.3, 0.15)).norm(), 0.1) << "cm";
+  EXPECT_LT(std::acos(std::abs(box.axes.col(2).z())) * kRadToDeg, 0.01) << "deg";
+}
+
+TEST(MapMerge, RecoversAKnownTransformFusesSurfacesAndKeepsTheLongestEdge) {
+  const PlaneMap target = SyntheticRoom();
+  // The source: the same room seen by a second run whose world is the target's moved by D, with
+  // one edge seen longer there (the box's top edge) and one seen shorter (its vertical edge).
+  const Pose3 D = MakePoseRpy(2.0 / kRadToDeg, -1.0 / kRadToDeg, 6.0 / kRadToDeg, Eigen::Vector3d(0.15, -0.10, 0.03));
+  PlaneMap source = SyntheticRoom();
+  source.edges[target.EdgeBetween(kBoxX, kBoxY)].end.z() = 0.25;
+  source.edges[target.EdgeBetween(kBoxX, kBoxY)].length = 0.25;
+  PlaneMap shorter = target;
+  shorter.edges[target.EdgeBetween(kBoxX, kBoxTop)].end.y() -= 0.05;
+  shorter.edges[target.EdgeBetween(kBoxX, kBoxTop)].length -= 0.05;
+  TransformMap(D, &source);
+
+  const MapMergeResult r = MergeMaps(shorter, source, Pose3::Identity(), MapMergeConfig{}, Objects());
+  ASSERT_TRUE(r.ok) << r.reason;
+  const Pose3 error = D * r.T_target_source;  // T_target_source should be D^-1
+  std::printf("recovered transform: error %.3f mm, %.4f deg; %d candidates, %d inliers, icp %d, %d landmarks fused\n",
+              1000 * error.translation().norm(), RotationAngle(error.linear()) * kRadToDeg, r.candidates, r.inliers,
+              r.refined, r.fused);
+  EXPECT_LT(1000 * error.translation().norm(), 1.0) << "mm";
+  EXPECT_LT(RotationAngle(error.linear()) * kRadToDeg, 0.05) << "deg";
+  // Every surface is in both maps: each pair is fused into one landmark, at its true plane.
+  EXPECT_EQ(r.fused, 6);
+  ASSERT_EQ(r.map.landmarks.size(), 6u);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_LT(NormalAngle(r.map.landmarks[k].plane, target.landmarks[k].plane) * kRadToDeg, 0.05) << k;
+    EXPECT_NEAR(100 * r.map.landmarks[k].plane.offset, 100 * target.landmarks[k].plane.offset, 0.1) << "cm, " << k;
+    EXPECT_EQ(r.map.landmarks[k].observations, 2);
+  }
+  // Each merged edge is the longest of its pair: 0.4 m from the source, 0.3 m from the target.
+  EXPECT_EQ(r.map.edges.size(), target.edges.size());
+  EXPECT_NEAR(100 * MergedLength(r.map, kBoxX, kBoxTop), 40.0, 0.1) << "cm";
+  EXPECT_NEAR(100 * MergedLength(r.map, kBoxX, kBoxY), 30.0, 0.1) << "cm";
+  // The objects re-aggregated from the merged graph and re-classified: one box, true size.
+  ASSERT_EQ(r.map.objects.size(), 1u);
+  EXPECT_EQ(r.map.objects[0].label, "box");
+  EXPECT_NEAR(100 * r.map.objects[0].dimensions.y(), 40.0, 0.1) << "cm";
+  EXPECT_LT(100 * (r.map.objects[0].center - Eigen::Vector3d(1.5, 0.3, 0.15)).norm(), 0.1) << "cm";
+  EXPECT_EQ(r.map.keyframes.size(), 2u);
+}
+
+TEST(MapMerge, FusesASurfaceAddedTwiceAndRenumbersEdges) {
+  // The far wall added a second time, 1 cm off and turned by 0.5 deg (a tracker that missed it).
+  PlaneMap twice = SyntheticRoom();
+  const double a = 0.5 / kRadToDeg;
+  const PlaneLandmark again = Rectangle(static_cast<int>(twice.landmarks.size()), {3.01, 0.0, 1.2}, Eigen::Vector3d::UnitZ(), 1.2,
+                                        {-std::sin(a), std::cos(a), 0.0}, 2.0);
+  twice.landmarks.push_back(again);
+  twice.edges.push_back(RoomEdge(kFloor, again.id, {3.0, -2.0, 0.0}, {3.0, 2.5, 0.0}, false, false));  // seen longer
+  EXPECT_EQ(FuseDuplicateLandmarks(MapMergeConfig{}, &twice), 1);
+  ASSERT_EQ(twice.landmarks.size(), 6u);
+  EXPECT_EQ(twice.landmarks[kWallX].observations, 2);
+  // The fused wall from all its points: between the two.
+  EXPECT_NEAR(100 * twice.landmarks[kWallX].plane.offset, 300.5, 0.3) << "cm";
+  EXPECT_NEAR(MergedLength(twice, kFloor, kWallX), 4.5, 1e-9);
+  EXPECT_EQ(twice.edges.size(), SyntheticRoom().edges.size());
+  // Surfaces apart stay apart: the box's faces, the floor and the walls are not fused.
+  PlaneMap room = SyntheticRoom();
+  EXPECT_EQ(FuseDuplicateLandmarks(MapMergeConfig{}, &room), 0);
+}
+
+TEST(MapMerge, MapsThatShareNoStructureAreNotMergedAndSayWhy) {
+  const PlaneMap target = SyntheticRoom();
+  PlaneMap source;
+  source.landmarks.push_back(target.landmarks[kFloor]);  // only a floor: the pose is not fixed
+  const MapMergeResult r = MergeMaps(target, source, Pose3::Identity(), MapMergeConfig{}, Objects());
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(r.reason.empty());
+  std::printf("reason: %s\n", r.reason.c_str());
+  EXPECT_EQ(r.map.landmarks.size(), target.landmarks.size());
+  EXPECT_FALSE(MergeMaps(target, PlaneMap{}, Pose3::Identity(), MapMergeConfig{}, Objects()).ok);
+}
+
+TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
+  PlaneMap map = SyntheticRoom();
+  RebuildObjects(Objects(), 0.25, &map);
+  map.objects[0].label_votes = {{"box", 12}, {"locker", 1}};
+  map.objects[0].complete_count = {3, 2, 1};
+  map.objects[0].complete_sum = Eigen::Vector3d(0.9, 0.8, 0.3);
+  testing::TempDir dir;
+  const PlaneMap back = ReadPlaneMapJson(dir.Write("map.json", PlaneMapJson(map)));
+  ASSERT_EQ(back.landmarks.size(), map.landmarks.size());
+  for (size_t k = 0; k < map.landmarks.size(); ++k) {
+    const PlaneLandmark &a = map.landmarks[k], &b = back.landmarks[k];
+    EXPECT_LT(NormalAngle(a.plane, b.plane), 1e-9);
+    EXPECT_NEAR(a.plane.offset, b.plane.offset, 1e-12);
+    EXPECT_NEAR(a.moments.w, b.moments.w, 1e-9);
+    EXPECT_LT((a.moments.sum_outer - b.moments.sum_outer).norm(), 1e-9);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    for (size_t i = 0; i < a.points.size(); ++i) EXPECT_LT((a.points[i] - b.points[i]).norm(), 1e-4) << "m";
+    EXPECT_EQ(a.floor_votes, b.floor_votes);
+  }
+  ASSERT_EQ(back.edges.size(), map.edges.size());
+  for (size_t k = 0; k < map.edges.size(); ++k) {
+    EXPECT_EQ(back.edges[k].landmark_a, map.edges[k].landmark_a);
+    EXPECT_NEAR(back.edges[k].length, map.edges[k].length, 1e-12);
+    EXPECT_EQ(back.edges[k].Convex(), map.edges[k].Convex());
+  }
+  ASSERT_EQ(back.objects.size(), 1u);
+  EXPECT_EQ(back.objects[0].landmarks, map.objects[0].landmarks);
+  EXPECT_EQ(back.objects[0].label_votes, map.objects[0].label_votes);
+  EXPECT_EQ(back.objects[0].complete_count, map.objects[0].complete_count);
+  EXPECT_EQ(back.objects[0].grasp_landmark, map.objects[0].grasp_landmark);
+  EXPECT_LT((back.objects[0].center - map.objects[0].center).norm(), 1e-12);
+  ASSERT_EQ(back.keyframes.size(), 1u);
+  EXPECT_LT(testing::TranslationError(back.keyframes[0].T_world_camera, map.keyframes[0].T_world_camera), 1e-12);
+  EXPECT_LT(testing::RotationErrorDeg(back.keyframes[0].T_world_camera, map.keyframes[0].T_world_camera), 1e-6);
+}
+
+TEST(MapMerge, TwoHalvesOfARenderedWalkMergeIntoOneMap) {
+  // The default walk's first 110 frames in the scene's world, its last 100 (from frame 90) in a
+  // world moved by D, as a second run started elsewhere would be; merged with no guess.
+  const sim::Scene scene = sim::LoadScene(SourcePath("configs/scenes/default.yaml"));
+  const std::vector<double> waypoints{-0.7, -1.3, 1.95, -1.3, 2.03, -0.546};
+  const Pose3 D = MakePoseRpy(1.0 / kRadToDeg, 0.5 / kRadToDeg, 5.0 / kRadToDeg, Eigen::Vector3d(0.12, -0.08, 0.02));
+  const testing::TrackedRun first = testing::TrackWalk(scene, waypoints, 11, 0, 110);
+  const testing::TrackedRun second = testing::TrackWalk(scene, waypoints, 11, 90, 190, D);
+  ASSERT_FALSE(second.estimate.empty());
+
+  const MapMergeResult r = MergeMaps(first.map, second.map, Pose3::Identity(), MapMergeConfig{}, Objects());
+  ASSERT_TRUE(r.ok) << r.reason;
+  const Pose3 error = D * r.T_target_source;
+  std::printf("halves: maps of %zu and %zu planes -> %zu (%d fused); transform error %.1f mm, %.2f deg; %d candidates, "
+              "%d inliers, icp %d; %zu objects\n",
+              first.map.landmarks.size(), second.map.landmarks.size(), r.map.landmarks.size(), r.fused,
+              1000 * error.translation().norm(), RotationAngle(error.linear()) * kRadToDeg, r.candidates, r.inliers,
+              r.refined, r.map.objects.size());
+  EXPECT_LT(100 * error.translation().norm(), 1.0) << "cm";
+  EXPECT_LT(RotationAngle(error.linear()) * kRadToDeg, 0.5) << "deg";
+  EXPECT_LT(r.map.landmarks.size(), first.map.landmarks.size() + second.map.landmarks.size());
+
+  // The box, in the scene's world (the first map's): the class, size and axis against the scene.
+  const std::vector<ObjectError> errors = EvaluateObjects(testing::Truths(scene), MapObjectEstimates(r.map), EvalConfig{});
+  bool checked = false;
+  for (const ObjectError& e : errors) {
+    if (!e.found()) continue;
+    const MapObject& o = r.map.objects[e.estimate];
+    std::printf("  %s: merged map %s, centre %.1f mm, dimensions %+.1f %+.1f %+.1f mm, axis %.2f deg\n", e.name.c_str(),
+                o.label.c_str(), 1000 * e.center_error, 1000 * e.dimension_error.x(), 1000 * e.dimension_error.y(),
+                1000 * e.dimension_error.z(), e.axis_error_deg);
+    if (e.name != "box") continue;
+    checked = true;
+    EXPECT_EQ(o.label, "box");
+    for (int k = 0; k < 3; ++k) EXPECT_LE(100 * std::abs(e.dimension_error[k]), 1.0) << "cm, axis " << k;
+    EXPECT_LE(100 * e.center_error, 1.5) << "cm";
+    EXPECT_LE(e.axis_error_deg, 2.0) << "deg";
+  }
+  EXPECT_TRUE(checked) << "the box is in the merged map";
+}
+
+}  // namespace
+}  // namespace planemap

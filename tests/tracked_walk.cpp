@@ -1,0 +1,57 @@
+#include "tracked_walk.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "planemap/frontend/frontend.h"
+#include "planemap/sim/virtual_camera.h"
+#include "planemap/sim/walk.h"
+#include "sim_views.h"
+#include "test_support.h"
+
+namespace planemap::testing {
+
+TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first,
+                     std::size_t last, const Pose3& T_run_world) {
+  sim::WalkConfig walk;
+  walk.waypoints = std::move(waypoints);
+  walk.rate = 5.0;
+  sim::RenderConfig render;
+  render.seed = seed;
+  const sim::VirtualCamera camera(scene, XtionCamera(), render);
+  const Frontend frontend(XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml")));
+  TrackedRun run;
+  const Trajectory truth = sim::GenerateWalk(walk);
+  last = std::min(last, truth.size());
+  if (first >= last) return run;
+  run.truth.assign(truth.begin() + first, truth.begin() + last);
+  Tracker tracker(TrackingConfig{}, T_run_world * truth[first].T_world_camera);
+  for (size_t k = first; k < last; ++k) {
+    sim::RenderedFrame rendered = camera.Render(truth[k].T_world_camera, camera.FrameSeed(static_cast<int>(k)));
+    RgbdFrame frame;
+    frame.depth = std::move(rendered.depth);
+    frame.color = std::move(rendered.color);
+    frame.stamp = truth[k].stamp;
+    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, XtionCamera(), CloudConfig{});
+    const TrackResult r = tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp);
+    run.estimate.push_back({frame.stamp, r.T_world_camera});
+    if (std::getenv("PLANEMAP_TRACE")) {
+      const Pose3 e = (T_run_world * truth[k].T_world_camera).inverse() * r.T_world_camera;
+      std::printf("frame %zu %s planes %d matched %d inliers %d added %d icp %d err %.1f mm %.2f deg %s\n", k, ToString(r.status), r.planes,
+                  r.matched, r.inliers, r.added, r.refined, 1000 * e.translation().norm(), RotationAngle(e.linear()) * 57.3, r.reason.c_str());
+    }
+    run.status.push_back(r.status);
+  }
+  run.map = tracker.map();
+  return run;
+}
+
+std::vector<ObjectTruth> Truths(const sim::Scene& scene) {
+  std::vector<ObjectTruth> truths;
+  for (const sim::SceneObject& o : scene.objects) truths.push_back({o.name, o.type, o.T_world_object, o.dimensions});
+  return truths;
+}
+
+
+}  // namespace planemap::testing
