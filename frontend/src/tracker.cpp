@@ -200,7 +200,24 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     const auto reachable = [&](const Pose3& T_candidate) { return plausibility(T_candidate) > 0.0; };
     PlaneRansacConfig ransac_config = config_.ransac;
     if (drift > 0.0) ransac_config.max_iterations = std::max(ransac_config.max_iterations, config_.recovery_iterations);
-    const PlaneRansacResult ransac = EstimatePoseRansac(correspondences, ransac_config, {predicted}, plausibility);
+    PlaneRansacResult ransac = EstimatePoseRansac(correspondences, ransac_config, {predicted}, plausibility);
+    if (ransac.ok) {
+      // The winner may be the prediction (a hypothesis no degeneracy test applies to) agreed with
+      // only by planes that fix fewer than 3 directions (a floor, a wall and planes parallel to
+      // them): the direction they leave free is then the motion model's, not measured. Such a
+      // frame is degraded, not tracked: it solves what its planes fix, and the free direction's
+      // drift widens the gates so that the planes which fix it are found again.
+      Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();
+      for (int k : ransac.inliers) {
+        const Eigen::Vector3d& n = map_.landmarks[candidates[k].landmark].plane.normal;
+        normals += n * n.transpose();
+      }
+      const double smallest = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(normals).eigenvalues()[0]));
+      if (smallest < config_.ransac.min_normal_spread) {
+        ransac.ok = false;
+        ransac.reason = "the " + std::to_string(ransac.inliers.size()) + " planes that agree with the best pose do not fix 3 directions";
+      }
+    }
     if (ransac.ok) {
       // The closed form weighs offsets measured far from the origin; the inlier pairs' points
       // against their landmarks' planes refine it before the final association.

@@ -117,9 +117,10 @@ struct TrackingConfig {
 };
 
 // tracked: pose from >= 3 non-parallel planes; degraded: too little structure (a corridor, one
-// wall): what the matched planes fix is solved, the rest is the motion model's prediction, and the
-// frame still maps; lost: the rotation went unmeasured (one plane or none) for lost_after frames:
-// the pose is the prediction and neither the map nor the motion model take it.
+// wall), or the planes that agree with the best pose span fewer than 3 directions: what the
+// matched planes fix is solved, the rest is the motion model's prediction, and the frame still
+// maps; lost: the rotation went unmeasured (one plane or none) for lost_after frames: the pose is
+// the prediction and neither the map nor the motion model take it.
 enum class TrackStatus { kTracked, kDegraded, kLost };
 const char* ToString(TrackStatus status);
 
