@@ -341,9 +341,8 @@ MapMergeResult MergeMaps(const PlaneMap& target, const PlaneMap& source, const P
   const pcl::PointCloud<pcl::PointNormal> source_points = points(source), target_points = points(target);
   if (!source_points.empty() && !target_points.empty()) {
     const IcpResult icp = RefineIcp(source_points, target_points, T, config.icp);
-    const Pose3 correction = T.inverse() * icp.T_target_source;
-    if (icp.converged && correction.translation().norm() < config.refine_max_translation &&
-        RotationAngle(correction.linear()) < config.refine_max_rotation_deg * kDegToRad) {
+    if (icp.converged &&
+        IsSmallCorrection(T.inverse() * icp.T_target_source, config.refine_max_translation, config.refine_max_rotation_deg)) {
       T = icp.T_target_source;
       result.refined = true;
     }

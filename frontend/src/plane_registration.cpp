@@ -367,4 +367,8 @@ pcl::PointCloud<pcl::PointNormal>::Ptr PlanePoints(const DetectedPlane& plane, c
   return points;
 }
 
+bool IsSmallCorrection(const Pose3& correction, double max_translation, double max_rotation_deg) {
+  return correction.translation().norm() < max_translation && RotationAngle(correction.linear()) < max_rotation_deg * M_PI / 180.0;
+}
+
 }  // namespace planemap

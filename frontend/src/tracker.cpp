@@ -267,9 +267,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     for (int i : used) groups.push_back({observed[i].moments, map_.landmarks[landmark_of[i]].plane, 1.0});
     const PointToPlaneResult aligned =
         AlignPointsToPlanes(groups, T, prior, config_.prior_weight, config_.refine_iterations, config_.refine_robust_scale);
-    const Pose3 correction = T.inverse() * aligned.T_target_source;
-    if (correction.translation().norm() < config_.refine_max_translation &&
-        RotationAngle(correction.linear()) < config_.refine_max_rotation_deg * kDegToRad) {
+    if (IsSmallCorrection(T.inverse() * aligned.T_target_source, config_.refine_max_translation, config_.refine_max_rotation_deg)) {
       T = aligned.T_target_source;
       result.refined = true;
     }
@@ -292,9 +290,8 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     }
     if (!source.empty() && !target.empty()) {
       const IcpResult icp = RefineIcp(source, target, T, config_.icp);
-      const Pose3 correction = T.inverse() * icp.T_target_source;
-      if (icp.converged && correction.translation().norm() < config_.refine_max_translation &&
-          RotationAngle(correction.linear()) < config_.refine_max_rotation_deg * kDegToRad) {
+      if (icp.converged &&
+          IsSmallCorrection(T.inverse() * icp.T_target_source, config_.refine_max_translation, config_.refine_max_rotation_deg)) {
         T = icp.T_target_source;
         result.refined = true;
       }

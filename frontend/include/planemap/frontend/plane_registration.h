@@ -120,6 +120,10 @@ PointToPlaneResult AlignPointsToPlanes(const std::vector<PointsOnPlane>& groups,
                                        const Pose3& prior, double prior_weight = 1e-6, int max_iterations = 10,
                                        double robust_scale = 0.0);
 
+// Whether a refinement's correction (T_before^-1 T_after) moves less than max_translation [m]
+// and turns less than max_rotation_deg [deg]: larger ones are refused as a jump.
+bool IsSmallCorrection(const Pose3& correction, double max_translation, double max_rotation_deg);
+
 struct IcpConfig {
   int max_iterations = 20;
   double max_correspondence_distance = 0.05;  // farther nearest neighbours are ignored [m]
