@@ -129,6 +129,36 @@ TEST(MapMerge, MapsThatShareNoStructureAreNotMergedAndSayWhy) {
   EXPECT_FALSE(MergeMaps(target, PlaneMap{}, Pose3::Identity(), MapMergeConfig{}, Objects()).ok);
 }
 
+TEST(MapMerge, AnObjectTheGraphDoesNotFormIsKeptOnceWithBothMapsEvidence) {
+  // A far object whose faces neither map kept (no landmarks), seen twice in each map, its centre
+  // 4 cm apart between them: after the merge it is one object seen 4 times, centred between.
+  const auto with_far_object = [](const Eigen::Vector3d& centre) {
+    PlaneMap map = SyntheticRoom();
+    MapObject far;
+    far.id = 0;
+    far.label = "unknown";
+    far.center = centre;
+    far.dimensions = Eigen::Vector3d(0.0, 0.3, 0.0);
+    far.observations = far.partial_center_count = 2;
+    far.partial_center_sum = 2 * centre;
+    map.objects.push_back(far);
+    return map;
+  };
+  const MapMergeResult r = MergeMaps(with_far_object({2.5, -1.5, 0.2}), with_far_object({2.5, -1.46, 0.2}), Pose3::Identity(),
+                                     MapMergeConfig{}, Objects());
+  ASSERT_TRUE(r.ok) << r.reason;
+  int far = 0;
+  for (const MapObject& o : r.map.objects) {
+    if (o.label != "unknown") continue;
+    ++far;
+    EXPECT_EQ(o.observations, 4);
+    EXPECT_LT(100 * (o.center - Eigen::Vector3d(2.5, -1.48, 0.2)).norm(), 0.1) << "cm";
+    EXPECT_NEAR(100 * o.dimensions.y(), 30.0, 0.1) << "cm";
+  }
+  EXPECT_EQ(far, 1);
+  EXPECT_EQ(r.map.objects.size(), 2u);  // and the box rebuilt from the graph
+}
+
 TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
   PlaneMap map = SyntheticRoom();
   RebuildObjects(Objects(), 0.25, &map);

@@ -256,11 +256,45 @@ void RebuildObjects(const ObjectModel& model, double object_match_distance, Plan
     }
     rebuilt.push_back(std::move(mo));
   }
-  // Objects the merged graph does not form (a corner never seen whole in one map) stay.
+  // Objects the merged graph does not form (a corner never seen whole in one map) stay; one seen
+  // in both maps (two shared faces, or the same class centred within object_match_distance) is
+  // kept once, its evidence combined.
+  const size_t formed = rebuilt.size();
   for (size_t k = 0; k < map->objects.size(); ++k) {
     if (heir[k] >= 0) continue;
-    rebuilt.push_back(map->objects[k]);
-    rebuilt.back().id = static_cast<int>(rebuilt.size()) - 1;
+    const MapObject& old = map->objects[k];
+    auto same = std::find_if(rebuilt.begin() + formed, rebuilt.end(), [&](const MapObject& o) {
+      int shared = 0;
+      for (int f : old.landmarks) shared += std::count(o.landmarks.begin(), o.landmarks.end(), f) > 0;
+      return shared >= 2 || (o.label == old.label && (o.center - old.center).norm() < object_match_distance);
+    });
+    if (same == rebuilt.end()) {
+      rebuilt.push_back(old);
+      rebuilt.back().id = static_cast<int>(rebuilt.size()) - 1;
+      continue;
+    }
+    MapObject& into = *same;
+    Absorb(old, &into);
+    std::set<int> faces(into.landmarks.begin(), into.landmarks.end());
+    faces.insert(old.landmarks.begin(), old.landmarks.end());
+    into.landmarks.assign(faces.begin(), faces.end());
+    for (int j = 0; j < 3; ++j) {
+      const int k3 = AxisOf(into.axes, old.axes.col(j));
+      if (into.complete_count[k3] > 0) {
+        into.dimensions[k3] = into.complete_sum[k3] / into.complete_count[k3];
+        into.dimension_complete[k3] = true;
+      } else {
+        into.dimensions[k3] = std::max(into.dimensions[k3], old.dimensions[j]);  // both bound it from below
+      }
+    }
+    into.center = into.center_count > 0 ? Eigen::Vector3d(into.center_sum / into.center_count)
+                                        : Eigen::Vector3d(into.partial_center_sum / std::max(1, into.partial_center_count));
+    if (!into.label_votes.empty()) into.label = Winner(into.label_votes);
+    if (!into.grasp_votes.empty()) {
+      into.grasp_landmark = Winner(into.grasp_votes);
+      into.has_grasp_axis = true;
+      into.grasp_axis = map->landmarks[into.grasp_landmark].plane.normal;
+    }
   }
   map->objects = std::move(rebuilt);
 }
