@@ -68,7 +68,7 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   const std::vector<DetectedPlane>& planes = model->planes;
   const size_t n = planes.size();
 
-  // 2. Trihedral angles: 3-cycles of the graph whose three planes meet in a corner near all
+  // 1. Trihedral angles: 3-cycles of the graph whose three planes meet in a corner near all
   //    three edges.
   std::vector<std::vector<int>> adjacent(n);
   for (const PlaneEdge& e : model->edges) {
@@ -96,7 +96,7 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
     }
   }
 
-  // 3. Objects: angles that share a graph edge (two planes) belong together, angle by angle.
+  // 2. Objects: angles that share a graph edge (two planes) belong together, angle by angle.
   //    Structure planes are not faces of an object, and an edge between two structure planes
   //    (a wall on the floor) joins nothing: two lockers both standing on the floor stay apart.
   //    A concave edge between an upward-facing top and a vertical face that are not structure is

@@ -1,0 +1,74 @@
+#pragma once
+// Plane observation: a landmark plane, moved into the camera frame by the camera's pose, against
+// the plane the frontend observed there, weighted by the observation's covariance.
+//
+// Landmark pi_W = (n_W, d_W) in the world; pose T_W_C = (R, t). In the camera (DESIGN.md:
+// d_W = d_C - n_W . t):
+//   n_C = R^T n_W,   d_C = d_W + n_W . t.
+// The observed plane pi_o = (n_o, d_o) has covariance C (4x4 over (n, d), rank 3: its normal part
+// lives in the tangent plane of n_o). The minimal residual is
+//   e = [ B^T (n_C - n_o) ;  d_C - d_o ]   (3 rows),
+// B (3x2) an orthonormal basis of the plane orthogonal to n_o; e = 0 when the landmark moved by the
+// pose is the observed plane. To first order e = J (pi_C - pi_o) with J = diag(B^T, 1), so
+// Cov(e) = J C J^T = Sigma, and the factor returns the whitened residual L e with L^T L = Sigma^-1:
+// its squared norm is chi-square with 3 degrees of freedom when C is the observation's true
+// covariance.
+#include <algorithm>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <ceres/autodiff_cost_function.h>
+
+#include "planemap/core/plane.h"
+
+namespace planemap {
+
+class PlaneObservationFactor {
+ public:
+  // `min_std` floors the residual's standard deviations (rad for the normal rows, m for the
+  // offset): a plane fit from thousands of points can claim a precision the model cannot hold.
+  PlaneObservationFactor(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std)
+      : normal_(observed.normal.normalized()), offset_(observed.offset) {
+    const Eigen::Vector3d a = normal_.unitOrthogonal();
+    basis_.col(0) = a;
+    basis_.col(1) = normal_.cross(a);
+    Eigen::Matrix<double, 3, 4> J = Eigen::Matrix<double, 3, 4>::Zero();
+    J.block<2, 3>(0, 0) = basis_.transpose();
+    J(2, 3) = 1.0;
+    Eigen::Matrix3d sigma = J * covariance * J.transpose();
+    sigma += std::max(min_std, 0.0) * std::max(min_std, 0.0) * Eigen::Matrix3d::Identity();
+    // L = chol(Sigma^-1)^T, upper triangular: |L e|^2 = e^T Sigma^-1 e.
+    sqrt_information_ = Eigen::LLT<Eigen::Matrix3d>(sigma.inverse()).matrixL().transpose();
+  }
+
+  // pose: [qx qy qz qw tx ty tz] (T_W_C); plane: [nx ny nz d] (world).
+  template <typename T>
+  bool operator()(const T* const pose, const T* const plane, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(pose);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(pose + 4);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_W(plane);
+    const Eigen::Matrix<T, 3, 1> n_C = q.conjugate() * n_W;
+    const T d_C = plane[3] + n_W.dot(t);
+    Eigen::Matrix<T, 3, 1> e;
+    e.template head<2>() = basis_.transpose().cast<T>() * (n_C - normal_.cast<T>());
+    e[2] = d_C - T(offset_);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> whitened(residual);
+    whitened = sqrt_information_.cast<T>() * e;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std) {
+    return new ceres::AutoDiffCostFunction<PlaneObservationFactor, 3, 7, 4>(
+        new PlaneObservationFactor(observed, covariance, min_std));
+  }
+
+  const Eigen::Matrix3d& sqrt_information() const { return sqrt_information_; }
+
+ private:
+  const Eigen::Vector3d normal_;
+  const double offset_;
+  Eigen::Matrix<double, 3, 2> basis_;
+  Eigen::Matrix3d sqrt_information_;
+};
+
+}  // namespace planemap
