@@ -102,8 +102,9 @@ TEST(PlaneObservationFactor, JacobiansPassTheGradientCheckerOnTheManifolds) {
     const double* parameters[] = {pose.data(), plane.data()};
     ceres::NumericDiffOptions options;
     ceres::GradientChecker checker(cost.get(), &manifolds, options);
-    ceres::GradientChecker::ProbeResults results;
-    EXPECT_TRUE(checker.Probe(parameters, 1e-6, &results)) << results.error_log;
+    // No ProbeResults of our own: its Eigen members are allocated inside libceres, and freeing
+    // them here breaks under AddressSanitizer (Eigen then assumes a different malloc alignment).
+    EXPECT_TRUE(checker.Probe(parameters, 1e-6, nullptr)) << "trial " << trial;
   }
 }
 
