@@ -44,17 +44,24 @@ class PlaneObservationFactor {
   // pose: [qx qy qz qw tx ty tz] (T_W_C); plane: [nx ny nz d] (world).
   template <typename T>
   bool operator()(const T* const pose, const T* const plane, T* residual) const {
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_W(plane);
+    Residual(pose, Eigen::Matrix<T, 3, 1>(n_W), plane[3], residual);
+    return true;
+  }
+
+  // The whitened residual of the world plane (n_W, d_W) seen from the camera at `pose`; other
+  // factors that imply a plane (a box's face) share it.
+  template <typename T>
+  void Residual(const T* const pose, const Eigen::Matrix<T, 3, 1>& n_W, const T& d_W, T* residual) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(pose);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(pose + 4);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n_W(plane);
     const Eigen::Matrix<T, 3, 1> n_C = q.conjugate() * n_W;
-    const T d_C = plane[3] + n_W.dot(t);
+    const T d_C = d_W + n_W.dot(t);
     Eigen::Matrix<T, 3, 1> e;
     e.template head<2>() = basis_.transpose().cast<T>() * (n_C - normal_.cast<T>());
     e[2] = d_C - T(offset_);
     Eigen::Map<Eigen::Matrix<T, 3, 1>> whitened(residual);
     whitened = sqrt_information_.cast<T>() * e;
-    return true;
   }
 
   static ceres::CostFunction* Create(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std) {
