@@ -12,6 +12,7 @@
 
 #include "planemap/core/detected_plane.h"
 #include "planemap/factors/box_face_factor.h"
+#include "planemap/factors/edge_length_factor.h"
 #include "planemap/factors/parameters.h"
 #include "planemap/factors/plane_observation_factor.h"
 #include "planemap/factors/relative_pose_factor.h"
@@ -327,6 +328,58 @@ TEST(BoxFaceFactor, BoxPoseAndDimensionsFromTwoViewsOfItsFaces) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(100 * estimate[k], 100 * dimensions[k], 0.3) << "cm, axis " << k;
   EXPECT_LT(100 * testing::TranslationError(solved, T_W_O), 0.3) << "cm";
   EXPECT_LT(testing::RotationErrorDeg(solved, T_W_O), 0.2) << "deg";
+}
+
+TEST(EdgeLengthFactor, ACompleteEdgeMeasuresACutEdgeOnlyBoundsFromBelow) {
+  const Eigen::Vector3d dimensions(0.30, 0.40, 0.25);
+  double r = 1.0;
+  EdgeLengthFactor(1, 0.40, 0.005, true)(dimensions.data(), &r);
+  EXPECT_EQ(r, 0.0);  // at the truth
+  EdgeLengthFactor(1, 0.41, 0.005, true)(dimensions.data(), &r);
+  EXPECT_NEAR(r, 2.0, 1e-9);  // 1 cm long at 5 mm: two standard deviations
+  EdgeLengthFactor(1, 0.39, 0.005, true)(dimensions.data(), &r);
+  EXPECT_NEAR(r, -2.0, 1e-9);
+  EdgeLengthFactor(1, 0.30, 0.005, false)(dimensions.data(), &r);
+  EXPECT_EQ(r, 0.0);  // a cut edge 10 cm short says nothing against the dimension
+  EdgeLengthFactor(1, 0.41, 0.005, false)(dimensions.data(), &r);
+  EXPECT_NEAR(r, 2.0, 1e-9);  // ... but one longer than the dimension does
+
+  // The Jacobian, far from the cut edge's kink (the checker's numeric steps reach centimetres).
+  for (bool complete : {true, false}) {
+    std::unique_ptr<ceres::CostFunction> cost(EdgeLengthFactor::Create(2, 0.50, 0.005, complete));
+    const double* parameters[] = {dimensions.data()};
+    ceres::NumericDiffOptions options;
+    const std::vector<const ceres::Manifold*> euclidean{nullptr};
+    EXPECT_TRUE(ceres::GradientChecker(cost.get(), &euclidean, options).Probe(parameters, 1e-6, nullptr));
+  }
+}
+
+TEST(EdgeLengthFactor, DimensionsFromCompleteEdgesAndCutOnesThatBoundThem) {
+  // x: 20 complete edges with 5 mm noise -> their mean, within 3 standard errors (3.4 mm);
+  // y: only cut edges, the longest 0.38 m -> the dimension rests at that bound;
+  // z: a complete edge and a longer cut one -> the cut one's bound wins over the measurement.
+  std::mt19937_64 rng(41);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  Eigen::Vector3d estimate(0.1, 0.1, 0.1);
+  ceres::Problem problem;
+  double mean_x = 0.0;
+  for (int i = 0; i < 20; ++i) {
+    const double l = 0.30 + noise(rng);
+    mean_x += l / 20;
+    problem.AddResidualBlock(EdgeLengthFactor::Create(0, l, 0.005, true), nullptr, estimate.data());
+  }
+  for (double l : {0.20, 0.35, 0.38}) problem.AddResidualBlock(EdgeLengthFactor::Create(1, l, 0.005, false), nullptr, estimate.data());
+  problem.AddResidualBlock(EdgeLengthFactor::Create(2, 0.25, 0.005, true), nullptr, estimate.data());
+  problem.AddResidualBlock(EdgeLengthFactor::Create(2, 0.26, 0.001, false), nullptr, estimate.data());
+  ceres::Solver::Options options;
+  options.function_tolerance = options.gradient_tolerance = options.parameter_tolerance = 1e-14;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  EXPECT_NEAR(1000 * estimate.x(), 1000 * mean_x, 1e-3) << "mm";
+  EXPECT_NEAR(100 * estimate.x(), 30.0, 0.34) << "cm";
+  EXPECT_NEAR(100 * estimate.y(), 38.0, 0.01) << "cm";
+  // The two pull against each other weighted 1 : 25: 0.25 + 25 / 26 * 0.01 m.
+  EXPECT_NEAR(100 * estimate.z(), 100 * (0.25 + 0.01 * 25.0 / 26.0), 0.01) << "cm";
 }
 
 }  // namespace
