@@ -16,6 +16,7 @@
 #include "planemap/factors/parameters.h"
 #include "planemap/factors/plane_observation_factor.h"
 #include "planemap/factors/relative_pose_factor.h"
+#include "planemap/factors/structure_factor.h"
 #include "test_support.h"
 
 // Ceres's invariant matchers are written to be used inside its namespace.
@@ -380,6 +381,82 @@ TEST(EdgeLengthFactor, DimensionsFromCompleteEdgesAndCutOnesThatBoundThem) {
   EXPECT_NEAR(100 * estimate.y(), 38.0, 0.01) << "cm";
   // The two pull against each other weighted 1 : 25: 0.25 + 25 / 26 * 0.01 m.
   EXPECT_NEAR(100 * estimate.z(), 100 * (0.25 + 0.01 * 25.0 / 26.0), 0.01) << "cm";
+}
+
+TEST(StructureFactors, ZeroForExactStructureAndJacobiansPassTheGradientChecker) {
+  const PlaneBlock floor = ToBlock(Plane{Eigen::Vector3d::UnitZ(), 0.0});
+  const PlaneBlock wall = ToBlock(Plane{-Eigen::Vector3d::UnitX(), 3.0});
+  const PlaneBlock opposite = ToBlock(Plane{Eigen::Vector3d::UnitX(), -1.0});
+  double perpendicular = 1.0;
+  Eigen::Vector3d parallel = Eigen::Vector3d::Ones();
+  PerpendicularPlanesFactor(0.01)(floor.data(), wall.data(), &perpendicular);
+  ParallelPlanesFactor(0.01)(wall.data(), opposite.data(), parallel.data());
+  EXPECT_EQ(perpendicular, 0.0);
+  EXPECT_LT(parallel.norm(), 1e-12);
+  // 1 deg off at sigma 0.01 rad: sin(1 deg) / 0.01 = 1.745.
+  const PlaneBlock tilted = ToBlock(Plane{Eigen::Vector3d(-std::cos(M_PI / 180), 0.0, std::sin(M_PI / 180)), 3.0});
+  PerpendicularPlanesFactor(0.01)(floor.data(), tilted.data(), &perpendicular);
+  EXPECT_NEAR(perpendicular, 1.745, 1e-3);
+  ParallelPlanesFactor(0.01)(tilted.data(), opposite.data(), parallel.data());
+  EXPECT_NEAR(parallel.norm(), 1.745, 1e-3);
+
+  std::mt19937_64 rng(43);
+  const PlaneManifold plane_manifold;
+  const std::vector<const ceres::Manifold*> manifolds{&plane_manifold, &plane_manifold};
+  for (int trial = 0; trial < 10; ++trial) {
+    const PlaneBlock a = ToBlock(RandomPlane(rng)), b = ToBlock(RandomPlane(rng));
+    const double* parameters[] = {a.data(), b.data()};
+    std::unique_ptr<ceres::CostFunction> perpendicular_cost(PerpendicularPlanesFactor::Create(0.01));
+    std::unique_ptr<ceres::CostFunction> parallel_cost(ParallelPlanesFactor::Create(0.01));
+    ceres::NumericDiffOptions options;
+    EXPECT_TRUE(ceres::GradientChecker(perpendicular_cost.get(), &manifolds, options).Probe(parameters, 1e-6, nullptr));
+    EXPECT_TRUE(ceres::GradientChecker(parallel_cost.get(), &manifolds, options).Probe(parameters, 1e-6, nullptr));
+  }
+}
+
+TEST(StructureFactors, APerpendicularPriorSquaresTwoTiltedFaces) {
+  // A box's side and top seen from a fixed camera, each observed tilted by 0.75 deg the other way
+  // about their common edge's direction (so 1.5 deg from perpendicular between them), with the
+  // covariance of a fit of 400 points with 3 cm noise; with a tight prior (0.1 deg) they meet at
+  // 90 deg, each moved toward the other.
+  std::mt19937_64 rng(47);
+  const Pose3 T_W_C = MakePoseRpy(-1.9, 0.0, -1.57, Eigen::Vector3d(0.0, 0.0, 0.5));
+  const std::vector<Plane> truth{{-Eigen::Vector3d::UnitX(), 1.5}, {Eigen::Vector3d::UnitZ(), -0.3}};
+  const Eigen::Vector3d edge_point(1.5, 0.0, 0.3);
+  std::vector<PlaneBlock> planes;
+  ceres::Problem problem;
+  PoseBlock camera = ToBlock(T_W_C);
+  problem.AddParameterBlock(camera.data(), 7, new PoseManifold);
+  problem.SetParameterBlockConstant(camera.data());
+  planes.reserve(truth.size());
+  std::vector<Plane> observed_world;
+  for (size_t k = 0; k < truth.size(); ++k) {
+    // Tilted about the edge (the y axis through edge_point).
+    Pose3 tilt = Pose3::Identity();
+    tilt.linear() = Eigen::AngleAxisd((k == 0 ? 0.75 : -0.75) * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    tilt.translation() = edge_point - tilt.linear() * edge_point;
+    observed_world.push_back(TransformPlane(tilt, truth[k]));
+    const Plane observed = TransformPlane(T_W_C.inverse(), observed_world.back());
+    const PlaneFit fit = NoisyFit(observed, 0.03, rng);  // its covariance only
+    planes.push_back(ToBlock(observed_world.back()));
+    problem.AddParameterBlock(planes.back().data(), 4, new PlaneManifold);
+    problem.AddResidualBlock(PlaneObservationFactor::Create(observed, fit.covariance, 1e-6), nullptr, camera.data(),
+                             planes.back().data());
+  }
+  const double before = std::abs(90.0 - NormalAngle(observed_world[0], observed_world[1]) * 180 / M_PI);
+  problem.AddResidualBlock(PerpendicularPlanesFactor::Create(0.1 * M_PI / 180), nullptr, planes[0].data(), planes[1].data());
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  const Plane a = PlaneFromBlock(planes[0].data()), b = PlaneFromBlock(planes[1].data());
+  const double after = std::abs(90.0 - NormalAngle(a, b) * 180 / M_PI);
+  std::printf("faces %.3f deg from perpendicular as fit, %.3f deg with the prior\n", before, after);
+  EXPECT_NEAR(before, 1.5, 1e-6) << "deg";
+  EXPECT_LT(after, 0.1 * before) << "deg";
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_LT(NormalAngle(k == 0 ? a : b, observed_world[k]) * 180 / M_PI, before) << "deg, plane " << k;
+  }
 }
 
 }  // namespace
