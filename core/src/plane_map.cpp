@@ -40,20 +40,11 @@ void TransformMap(const Pose3& T, PlaneMap* map) {
   for (PlaneLandmark& l : map->landmarks) {
     l.plane = TransformPlane(T, l.plane);
     l.moments = TransformMoments(T, l.moments);
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(1e30), high = -low;
-    for (Eigen::Vector3f& p : l.points) {
-      p = (T * p.cast<double>()).cast<float>();
-      low = low.cwiseMin(p.cast<double>());
-      high = high.cwiseMax(p.cast<double>());
-    }
-    if (l.low.x() <= l.high.x()) {  // the extent's box moved, boxed again
-      for (int k = 0; k < 8; ++k) {
-        const Eigen::Vector3d c((k & 1) ? l.high.x() : l.low.x(), (k & 2) ? l.high.y() : l.low.y(), (k & 4) ? l.high.z() : l.low.z());
-        low = low.cwiseMin(T * c);
-        high = high.cwiseMax(T * c);
-      }
-      l.low = low;
-      l.high = high;
+    for (Eigen::Vector3f& p : l.points) p = (T * p.cast<double>()).cast<float>();
+    if (l.low.x() <= l.high.x()) {  // an extent (it holds the points)
+      const Box3 box = TransformBox(T, l.low, l.high);
+      l.low = box.low;
+      l.high = box.high;
     }
   }
   for (MapEdge& e : map->edges) {

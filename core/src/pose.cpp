@@ -55,4 +55,15 @@ Pose3 PoseFromRotationVectorAndTranslation(const Eigen::Matrix<double, 6, 1>& xi
   return T;
 }
 
+Box3 TransformBox(const Pose3& T, const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  Box3 box;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d corner = T * Eigen::Vector3d((k & 1) ? high.x() : low.x(), (k & 2) ? high.y() : low.y(),
+                                                       (k & 4) ? high.z() : low.z());
+    box.low = box.low.cwiseMin(corner);
+    box.high = box.high.cwiseMax(corner);
+  }
+  return box;
+}
+
 }  // namespace planemap

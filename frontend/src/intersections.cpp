@@ -13,13 +13,6 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 Eigen::Vector3d PointAt(const Cloud& cloud, int i) { return {cloud[i].x, cloud[i].y, cloud[i].z}; }
 
-struct Box3 {
-  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e30), high = Eigen::Vector3d::Constant(-1e30);
-  bool Near(const Box3& o, double margin) const {
-    return ((low.array() - margin) <= o.high.array()).all() && ((o.low.array() - margin) <= high.array()).all();
-  }
-};
-
 // A pixel window: only inliers inside it can lie near the other plane (a speed-up, nothing more).
 struct Window {
   int u0 = 0, u1 = 0, v0 = 0, v1 = 0;
@@ -248,7 +241,7 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
     for (size_t b = a + 1; b < planes.size(); ++b) {
       const Plane& pa = planes[a].plane;
       const Plane& pb = planes[b].plane;
-      if (std::abs(pa.normal.dot(pb.normal)) > max_cos || !boxes[a].Near(boxes[b], c.d_thresh)) continue;
+      if (std::abs(pa.normal.dot(pb.normal)) > max_cos || !boxes[a].Overlaps(boxes[b], c.d_thresh)) continue;
       std::vector<Eigen::Vector3d> points_a, points_b, band_a, band_b;
       CollectEdgePoints(planes[a], planes[b], grown(b), cloud, c, &points_a, &band_a);
       CollectEdgePoints(planes[b], planes[a], grown(a), cloud, c, &points_b, &band_b);

@@ -317,12 +317,7 @@ MapMergeResult MergeMaps(const PlaneMap& target, const PlaneMap& source, const P
     const Plane placed = TransformPlane(T_guess, s.plane);
     const Eigen::Vector3d centroid = Centroid(s);
     const Eigen::Vector3d placed_centroid = T_guess * centroid;
-    PlaneLandmark box;  // the source extent placed by the guess, boxed again
-    for (int k = 0; k < 8; ++k) {
-      const Eigen::Vector3d c((k & 1) ? s.high.x() : s.low.x(), (k & 2) ? s.high.y() : s.low.y(), (k & 4) ? s.high.z() : s.low.z());
-      box.low = box.low.cwiseMin(T_guess * c);
-      box.high = box.high.cwiseMax(T_guess * c);
-    }
+    const Box3 box = TransformBox(T_guess, s.low, s.high);  // the source extent placed by the guess
     std::vector<std::pair<double, int>> mine;
     for (const PlaneLandmark& t : target.landmarks) {
       const double angle = NormalAngle(placed, t.plane);

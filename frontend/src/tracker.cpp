@@ -40,14 +40,9 @@ struct Tracker::Observation {
   void Place(const Pose3& T_world_camera) {
     world = TransformPlane(T_world_camera, camera);
     centroid_w = T_world_camera * centroid_c;
-    low_w = Eigen::Vector3d::Constant(1e30);
-    high_w = -low_w;
-    for (int k = 0; k < 8; ++k) {
-      const Eigen::Vector3d c((k & 1) ? high_c.x() : low_c.x(), (k & 2) ? high_c.y() : low_c.y(), (k & 4) ? high_c.z() : low_c.z());
-      const Eigen::Vector3d w = T_world_camera * c;
-      low_w = low_w.cwiseMin(w);
-      high_w = high_w.cwiseMax(w);
-    }
+    const Box3 box = TransformBox(T_world_camera, low_c, high_c);
+    low_w = box.low;
+    high_w = box.high;
   }
 };
 

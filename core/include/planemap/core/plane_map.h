@@ -30,7 +30,7 @@ struct PlaneLandmark {
   int first_frame = -1, last_frame = -1;
 
   bool Overlaps(const Eigen::Vector3d& low_other, const Eigen::Vector3d& high_other, double margin) const {
-    return ((low.array() - margin) <= high_other.array()).all() && ((low_other.array() - margin) <= high.array()).all();
+    return Box3{low, high}.Overlaps(Box3{low_other, high_other}, margin);
   }
 };
 

@@ -22,6 +22,18 @@ double RotationAngle(const Eigen::Matrix3d& R);
 Eigen::Matrix<double, 6, 1> RotationVectorAndTranslation(const Pose3& T);
 Pose3 PoseFromRotationVectorAndTranslation(const Eigen::Matrix<double, 6, 1>& xi);
 
+// An axis-aligned box [low, high] (empty as constructed) [m].
+struct Box3 {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e30), high = Eigen::Vector3d::Constant(-1e30);
+  // Whether the two boxes, each grown by margin, intersect.
+  bool Overlaps(const Box3& o, double margin) const {
+    return ((low.array() - margin) <= o.high.array()).all() && ((o.low.array() - margin) <= high.array()).all();
+  }
+};
+
+// The axis-aligned box holding the box [low, high] moved by T: its 8 corners moved, boxed again.
+Box3 TransformBox(const Pose3& T, const Eigen::Vector3d& low, const Eigen::Vector3d& high);
+
 // Interpolates between two poses: slerp on rotation, linear on translation; s in [0, 1].
 Pose3 Interpolate(const Pose3& T_a, const Pose3& T_b, double s);
 
