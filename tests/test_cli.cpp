@@ -240,5 +240,39 @@ TEST(Cli, MergeAlignsTwoMapFilesAndRebuildsTheBox) {
   EXPECT_NE(apart.output.find("cannot align " + floor), std::string::npos) << apart.output;
 }
 
+TEST(Cli, MapRefineWritesTheRefinedTrajectoryAndTheBoxesUncertainty) {
+  TempDir dir;
+  const std::string seq = dir.File("seq");
+  ASSERT_EQ(Planemap("render --max-frames 60 --out " + seq).exit_code, 0);
+  const CommandRun run = Planemap("map " + seq + " --refine --stride 2 --out " + dir.File("m"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("refine: 30 poses"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("SPARSE_SCHUR (SUITE_SPARSE)"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("CONVERGENCE"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("std: dimensions"), std::string::npos) << run.output;
+  // Every frame has a tracked, a smoothed and a refined pose; the refined ones are the truth's
+  // to within a centimetre (the first is anchored on it).
+  const Trajectory truth = ReadTumTrajectory(seq + "/groundtruth.txt");
+  for (const char* name : {"trajectory.txt", "trajectory_smoothed.txt", "trajectory_refined.txt"}) {
+    const Trajectory t = ReadTumTrajectory(dir.File("m/") + name);
+    ASSERT_EQ(t.size(), 30u) << name;
+    for (size_t k = 0; k < t.size(); ++k) {
+      EXPECT_LT((t[k].T_world_camera.translation() - truth[2 * k].T_world_camera.translation()).norm(), 0.01) << name << " frame " << 2 * k;
+    }
+  }
+  // The map reads back with each box's standard deviations.
+  const PlaneMap map = ReadPlaneMapJson(dir.File("m/map.json"));
+  int boxes = 0;
+  for (const MapObject& o : map.objects) {
+    if (o.label != "box" || !o.uncertainty.known) continue;
+    ++boxes;
+    EXPECT_GT(o.uncertainty.center_covariance.trace(), 0.0);
+    for (int k = 0; k < 3; ++k) {
+      if (o.dimension_complete[k]) EXPECT_GT(o.uncertainty.dimension_std[k], 0.0) << "axis " << k;
+    }
+  }
+  EXPECT_GE(boxes, 1);
+}
+
 }  // namespace
 }  // namespace planemap

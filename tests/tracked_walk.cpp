@@ -13,7 +13,7 @@
 namespace planemap::testing {
 
 TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first,
-                     std::size_t last, const Pose3& T_run_world) {
+                     std::size_t last, const Pose3& T_run_world, const BackendConfig& backend) {
   sim::WalkConfig walk;
   walk.waypoints = std::move(waypoints);
   walk.rate = 5.0;
@@ -27,6 +27,7 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
   if (first >= last) return run;
   run.truth.assign(truth.begin() + first, truth.begin() + last);
   Tracker tracker(TrackingConfig{}, T_run_world * truth[first].T_world_camera);
+  SlidingWindow window(backend);
   for (size_t k = first; k < last; ++k) {
     sim::RenderedFrame rendered = camera.Render(truth[k].T_world_camera, camera.FrameSeed(static_cast<int>(k)));
     RgbdFrame frame;
@@ -36,6 +37,7 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
     const Cloud::Ptr cloud = MakeOrganizedCloud(frame, XtionCamera(), CloudConfig{});
     const TrackResult r = tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp);
     run.estimate.push_back({frame.stamp, r.T_world_camera});
+    run.smoothed.push_back({frame.stamp, window.Update(tracker.map(), tracker.observations().back())});
     if (std::getenv("PLANEMAP_TRACE")) {
       const Pose3 e = (T_run_world * truth[k].T_world_camera).inverse() * r.T_world_camera;
       std::printf("frame %zu %s planes %d matched %d inliers %d added %d icp %d err %.1f mm %.2f deg %s\n", k, ToString(r.status), r.planes,
@@ -44,6 +46,7 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
     run.status.push_back(r.status);
   }
   run.map = tracker.map();
+  run.observations = tracker.observations();
   return run;
 }
 

@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
 
   planemap::MapOptions map;
   CLI::App* map_cmd = app.add_subcommand(
-      "map", "Track a TUM-layout sequence against a plane map; writes trajectory.txt, tracking.csv, map.json, map.ply");
+      "map", "Track a TUM-layout sequence against a plane map; writes trajectory.txt, trajectory_smoothed.txt (sliding "
+             "window), tracking.csv, map.json, map.ply");
   map_cmd->add_option("sequence", map.sequence, "Sequence folder (rgb.txt, depth.txt, ...)")->required();
   map_cmd->add_option("--camera", map.camera,
                       "Camera intrinsics (YAML); default: the sequence's camera.yaml, else "
@@ -67,6 +68,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   map_cmd->add_option("--max-frames", map.max_frames, "Use only the first N frames");
   map_cmd->add_option("--stride", map.stride, "Use every n-th frame")->capture_default_str();
+  map_cmd->add_flag("--refine", map.refine,
+                    "Refine poses, planes and boxes jointly with the Ceres back end (batch) after tracking; writes "
+                    "trajectory_refined.txt and a map.json with each box's standard deviations");
 
   planemap::EvalOptions eval;
   CLI::App* eval_cmd = app.add_subcommand(

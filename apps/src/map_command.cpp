@@ -1,6 +1,7 @@
 // planemap map: the frontend and tracking over a TUM-layout sequence; the trajectory, a per-frame
 // tracking log, and the plane/object map.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +9,7 @@
 
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
+#include "planemap/backend/backend.h"
 #include "planemap/core/error.h"
 #include "planemap/frontend/frontend.h"
 #include "planemap/frontend/map_merge.h"
@@ -24,6 +26,24 @@ double Percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[static_cast<size_t>(q * (v.size() - 1))];
+}
+
+// "std: dimensions 1.6 1.6 0.9 mm, centre ... mm, axes ... deg, grasp axis ... deg" (a dimension
+// only bounded from below: "bound").
+std::string UncertaintyText(const MapObject::Uncertainty& u) {
+  char text[256];
+  std::string dims;
+  for (int k = 0; k < 3; ++k) {
+    std::snprintf(text, sizeof(text), "%s%.1f", k ? " " : "", 1000 * u.dimension_std[k]);
+    dims += u.dimension_std[k] < 0.0 ? std::string(k ? " bound" : "bound") : std::string(text);
+  }
+  const Eigen::Vector3d centre = u.center_covariance.diagonal().cwiseMax(0.0).cwiseSqrt() * 1000;
+  std::snprintf(text, sizeof(text), "std: dimensions %s mm, centre %.1f %.1f %.1f mm, axes %.2f %.2f %.2f deg, grasp axis ", dims.c_str(),
+                centre.x(), centre.y(), centre.z(), u.axes_std_deg.x(), u.axes_std_deg.y(), u.axes_std_deg.z());
+  std::string out = text;
+  if (u.grasp_axis_std_deg < 0.0) return out + "none";
+  std::snprintf(text, sizeof(text), "%.2f deg", u.grasp_axis_std_deg);
+  return out + text;
 }
 
 }  // namespace
@@ -61,16 +81,20 @@ int RunMap(const MapOptions& options) {
   if (ec) ThrowInputError(options.out, 0, "cannot create folder: " + ec.message());
   const fs::path out(options.out);
   // Written frame by frame and flushed, so an interrupted run keeps what it did.
-  std::ofstream trajectory(out / "trajectory.txt"), log(out / "tracking.csv");
-  if (!trajectory || !log) ThrowInputError(options.out, 0, "cannot write trajectory.txt / tracking.csv");
-  trajectory << "# planemap map " << options.sequence << ": T_world_camera, world = "
-             << (anchored ? "ground truth (first pose)" : "first camera frame") << "\n# timestamp tx ty tz qx qy qz qw\n";
+  std::ofstream trajectory(out / "trajectory.txt"), smoothed(out / "trajectory_smoothed.txt"), log(out / "tracking.csv");
+  if (!trajectory || !smoothed || !log) ThrowInputError(options.out, 0, "cannot write trajectory.txt / trajectory_smoothed.txt / tracking.csv");
+  const std::string world = anchored ? "ground truth (first pose)" : "first camera frame";
+  trajectory << "# planemap map " << options.sequence << ": T_world_camera (tracking), world = " << world
+             << "\n# timestamp tx ty tz qx qy qz qw\n";
+  smoothed << "# planemap map " << options.sequence << ": T_world_camera (sliding window of " << config.backend.window_size
+           << " frames, as given live), world = " << world << "\n# timestamp tx ty tz qx qy qz qw\n";
+  SlidingWindow window(config.backend);
   log << "frame,stamp,status,planes,matched,inliers,added,refined,frontend_ms,tracking_ms,reason\n";
 
   const size_t frames = options.max_frames < 0 ? sequence.size() : std::min(sequence.size(), static_cast<size_t>(options.max_frames));
   int counts[3] = {0, 0, 0}, unreadable = 0;
   double cloud_points = 0.0;  // valid pixels of every frame used
-  std::vector<double> frontend_ms, tracking_ms;
+  std::vector<double> frontend_ms, tracking_ms, window_ms;
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   for (size_t i = 0; i < frames; i += options.stride) {
@@ -89,10 +113,14 @@ int RunMap(const MapOptions& options) {
     const auto t1 = Clock::now();
     const TrackResult r = tracker.Track(model, *cloud, frame.stamp);
     const auto t2 = Clock::now();
+    const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
+    const auto t3 = Clock::now();
     frontend_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     tracking_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    window_ms.push_back(std::chrono::duration<double, std::milli>(t3 - t2).count());
     ++counts[static_cast<int>(r.status)];
     trajectory << FormatTumPose({frame.stamp, r.T_world_camera}) << "\n" << std::flush;
+    smoothed << FormatTumPose({frame.stamp, T_smoothed}) << "\n" << std::flush;
     std::string reason = r.reason;
     std::replace(reason.begin(), reason.end(), ',', ';');
     log << i << ',' << FormatStamp(frame.stamp) << ',' << ToString(r.status) << ',' << r.planes << ',' << r.matched << ','
@@ -104,8 +132,32 @@ int RunMap(const MapOptions& options) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::fprintf(stderr, "\n");
 
-  // Surfaces the tracker added twice (seen again from too far off to match) folded into one.
   PlaneMap map = tracker.map();
+  if (options.refine) {
+    // The batch back end over every frame tracking kept, before landmarks are renumbered.
+    const std::vector<FrameObservations>& frames_seen = tracker.observations();
+    const BatchResult batch = RefineBatch(map, frames_seen, config.backend);
+    const SolveReport& s = batch.report;
+    std::printf("refine: %d poses, %d planes, %d boxes, %d residual blocks (%d plane observations, %d dropped as outliers)\n", s.poses,
+                s.landmarks, s.cuboids, s.residual_blocks, s.observations, s.outliers);
+    std::printf("refine: %s, %d iterations, %.3f s (%.2f ms per iteration), cost %.4g -> %.4g, %s; covariances %.3f s\n",
+                s.linear_solver.c_str(), s.iterations, s.seconds, 1000 * s.seconds_per_iteration, s.initial_cost, s.final_cost,
+                s.termination.c_str(), s.covariance_seconds);
+    std::ofstream(out / "refine_report.txt") << s.full;
+    if (!s.usable) {
+      std::fprintf(stderr, "planemap map: the back end failed (%s): map.json and the trajectory keep tracking's estimate\n",
+                   s.termination.c_str());
+    } else {
+      if (!batch.covariance_error.empty()) std::fprintf(stderr, "planemap map: no uncertainty: %s\n", batch.covariance_error.c_str());
+      map = batch.map;
+      std::ofstream refined(out / "trajectory_refined.txt");
+      refined << "# planemap map --refine " << options.sequence << ": T_world_camera (batch back end), world = " << world
+              << "\n# timestamp tx ty tz qx qy qz qw\n";
+      for (size_t k = 0; k < frames_seen.size(); ++k) refined << FormatTumPose({frames_seen[k].stamp, batch.poses[k]}) << "\n";
+      if (!refined) ThrowInputError(options.out, 0, "cannot write trajectory_refined.txt");
+    }
+  }
+  // Surfaces the tracker added twice (seen again from too far off to match) folded into one.
   const int fused = FuseDuplicateLandmarks(config.merge, &map);
   std::ofstream(out / "map.json") << PlaneMapJson(map) << "\n";
   WritePlaneMapPly((out / "map.ply").string(), map);
@@ -122,11 +174,14 @@ int RunMap(const MapOptions& options) {
                 o.dimensions.x(), o.dimensions.y(), o.dimensions.z(),
                 (o.dimension_complete[0] && o.dimension_complete[1] && o.dimension_complete[2]) ? "" : " (some lower bounds)",
                 o.center.x(), o.center.y(), o.center.z(), o.observations);
+    if (o.uncertainty.known) std::printf("    %s\n", UncertaintyText(o.uncertainty).c_str());
   }
-  std::printf("speed: frontend %.1f ms median (95%% %.1f), tracking %.1f ms median (95%% %.1f), %.1f frames/s overall\n",
+  std::printf("speed: frontend %.1f ms median (95%% %.1f), tracking %.1f ms median (95%% %.1f), sliding window %.1f ms median "
+              "(95%% %.1f), %.1f frames/s overall\n",
               Percentile(frontend_ms, 0.5), Percentile(frontend_ms, 0.95), Percentile(tracking_ms, 0.5),
-              Percentile(tracking_ms, 0.95), tracked_frames / std::max(seconds, 1e-9));
-  std::fprintf(stderr, "  wrote %s/trajectory.txt, tracking.csv, map.json, map.ply\n", options.out.c_str());
+              Percentile(tracking_ms, 0.95), Percentile(window_ms, 0.5), Percentile(window_ms, 0.95), tracked_frames / std::max(seconds, 1e-9));
+  std::fprintf(stderr, "  wrote %s/trajectory.txt, trajectory_smoothed.txt, tracking.csv, map.json, map.ply%s\n", options.out.c_str(),
+               options.refine ? ", trajectory_refined.txt, refine_report.txt" : "");
   return 0;
 }
 

@@ -57,6 +57,7 @@ void TransformMap(const Pose3& T, PlaneMap* map) {
     o.grasp_axis = R * o.grasp_axis;
     o.center_sum = R * o.center_sum + o.center_count * T.translation();
     o.partial_center_sum = R * o.partial_center_sum + o.partial_center_count * T.translation();
+    o.uncertainty.center_covariance = R * o.uncertainty.center_covariance * R.transpose();
   }
   for (Keyframe& k : map->keyframes) k.T_world_camera = T * k.T_world_camera;
 }

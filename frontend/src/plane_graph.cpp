@@ -95,6 +95,27 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
       }
     }
   }
+  // An edge that meets a corner ends there: the third face's points next to the corner lie
+  // within d_thresh of both planes too, and their depth noise along the edge would lengthen it
+  // (the farthest of many noisy points). The end nearer the corner moves to the corner's
+  // projection on the edge's line, and is not cut, when that end is within corner_snap_distance
+  // of it (a corner farther inside is where another object meets this edge, not its end).
+  for (const TrihedralAngle& angle : model->angles) {
+    for (int e : angle.edges) {
+      PlaneEdge& edge = model->edges[e];
+      const double s = (angle.corner - edge.start).dot(edge.direction);
+      if (std::min(std::abs(s), std::abs(s - edge.length)) > config.corner_snap_distance) continue;
+      const Eigen::Vector3d at = edge.start + s * edge.direction;
+      if (s > 0.5 * edge.length) {
+        edge.end = at;
+        edge.end_cut = false;
+      } else {
+        edge.start = at;
+        edge.start_cut = false;
+      }
+      edge.length = std::max(0.0, (edge.end - edge.start).dot(edge.direction));
+    }
+  }
 
   // 2. Objects: angles that share a graph edge (two planes) belong together, angle by angle.
   //    Structure planes are not faces of an object, and an edge between two structure planes

@@ -328,8 +328,15 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     }
   }
   result.T_world_camera = T;
+  FrameObservations record;
+  record.frame = frame;
+  record.stamp = stamp;
+  record.T_world_camera = T;
+  record.degraded = result.status == TrackStatus::kDegraded;
+  record.lost = result.status == TrackStatus::kLost;
   if (result.status == TrackStatus::kLost) {
     result.landmark_of_plane = LandmarkOfPlane(model, observed, landmark_of);
+    observations_.push_back(std::move(record));
     return result;  // neither the motion model nor the map take a pose that may be anywhere
   }
   // The motion model remembers tracked and degraded poses: what their planes fix is measured.
@@ -375,10 +382,17 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     }
     ++l.observations;
     l.last_frame = frame;
+    // The back end sees the plane as the landmark takes it: fit with depth-noise weights.
+    const PlaneFit own = FitPlane(observed[i].moments);
+    Plane seen = own.ok ? own.plane : p.plane;
+    if (seen.normal.dot(p.plane.normal) < 0.0) seen = seen.Flipped();
+    record.planes.push_back({l.id, seen, own.ok ? own.covariance : p.covariance, own.ok ? own.centroid : p.centroid,
+                             static_cast<int>(p.inliers.size())});
   }
   result.landmark_of_plane = LandmarkOfPlane(model, observed, landmark_of);
   if (model.floor >= 0 && result.landmark_of_plane[model.floor] >= 0) ++map_.landmarks[result.landmark_of_plane[model.floor]].floor_votes;
-  MergeEdgesAndObjects(model, result.landmark_of_plane, T);
+  MergeEdgesAndObjects(model, result.landmark_of_plane, T, &record);
+  observations_.push_back(std::move(record));
 
   // Keyframes: the first frame, then one per keyframe_distance or keyframe_angle_deg of motion.
   if (map_.keyframes.empty() ||
@@ -390,7 +404,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
 }
 
 void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<int>& landmark_of_plane,
-                                   const Pose3& T_world_camera) {
+                                   const Pose3& T_world_camera, FrameObservations* record) {
   // Edges: the merged edge is the longest one seen (paper, "Merging ... map representation").
   for (const PlaneEdge& e : model.edges) {
     int a = landmark_of_plane[e.plane_a], b = landmark_of_plane[e.plane_b];
@@ -438,6 +452,7 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     }
     MapObject& mo = map_.objects[match];
     ++mo.observations;
+    record->objects.push_back({mo.id, fo.axes, fo.dimensions, fo.dimension_complete, fo.center});
     for (int f : faces) {
       if (std::find(mo.landmarks.begin(), mo.landmarks.end(), f) == mo.landmarks.end()) mo.landmarks.push_back(f);
     }

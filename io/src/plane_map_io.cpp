@@ -14,6 +14,19 @@ using nlohmann::json;
 
 json Vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+// Standard deviations as the back end estimated them; -1 (a dimension only bounded from below,
+// no grasp axis) is written as null.
+json Std(double x) { return x < 0.0 ? json(nullptr) : json(x); }
+json UncertaintyJson(const MapObject::Uncertainty& u) {
+  const auto upper = [](const Eigen::Matrix3d& C) { return json::array({C(0, 0), C(0, 1), C(0, 2), C(1, 1), C(1, 2), C(2, 2)}); };
+  return {{"dimension_std", {Std(u.dimension_std.x()), Std(u.dimension_std.y()), Std(u.dimension_std.z())}},
+          {"center_std", Vec(u.center_covariance.diagonal().cwiseMax(0.0).cwiseSqrt())},
+          {"axes_std_deg", Vec(u.axes_std_deg)},
+          {"grasp_axis_std_deg", Std(u.grasp_axis_std_deg)},
+          {"dimension_covariance", upper(u.dimension_covariance)},
+          {"center_covariance", upper(u.center_covariance)}};
+}
+
 // Voxel points to 0.1 mm: enough for a 5 cm voxel sample, and a third of the text.
 double Round(float x) { return std::round(static_cast<double>(x) * 1e4) / 1e4; }
 
@@ -126,6 +139,7 @@ std::string PlaneMapJson(const PlaneMap& map, int indent) {
                    {"axes", {Vec(o.axes.col(0)), Vec(o.axes.col(1)), Vec(o.axes.col(2))}},
                    {"grasp_axis", o.has_grasp_axis ? Vec(o.grasp_axis) : json(nullptr)},
                    {"observations", o.observations},
+                   {"uncertainty", o.uncertainty.known ? UncertaintyJson(o.uncertainty) : json(nullptr)},
                    // What the estimates are made of, so a merge can go on averaging them.
                    {"evidence", {{"complete_count", o.complete_count},
                                  {"complete_sum", Vec(o.complete_sum)},
@@ -233,6 +247,24 @@ PlaneMap ReadPlaneMapJson(const std::string& file) {
       m.has_grasp_axis = true;
     }
     if (o.Has("observations")) m.observations = o["observations"].Int();
+    if (o.Has("uncertainty")) {
+      const Node u = o["uncertainty"];
+      MapObject::Uncertainty& x = m.uncertainty;
+      x.known = true;
+      const Node dims = u["dimension_std"];
+      if (!dims.raw().is_array() || dims.Size() != 3) dims.Fail("", "expected 3 standard deviations (or null)");
+      for (size_t k = 0; k < 3; ++k) x.dimension_std[k] = dims[k].raw().is_null() ? -1.0 : dims[k].Number();
+      x.axes_std_deg = u["axes_std_deg"].Vector();
+      x.grasp_axis_std_deg = u.Has("grasp_axis_std_deg") ? u["grasp_axis_std_deg"].Number() : -1.0;
+      const auto symmetric = [](const Node& n) {
+        const std::vector<double> c = n.Numbers(6);
+        Eigen::Matrix3d C;
+        C << c[0], c[1], c[2], c[1], c[3], c[4], c[2], c[4], c[5];
+        return C;
+      };
+      x.dimension_covariance = symmetric(u["dimension_covariance"]);
+      x.center_covariance = symmetric(u["center_covariance"]);
+    }
     if (o.Has("evidence")) {
       const Node e = o["evidence"];
       const std::vector<double> counts = e["complete_count"].Numbers(3);

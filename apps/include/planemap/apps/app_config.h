@@ -2,6 +2,7 @@
 // Every setting of the planemap tool in one tree; configs/default.yaml mirrors its defaults.
 #include <string>
 
+#include "planemap/backend/backend_config.h"
 #include "planemap/core/config.h"
 #include "planemap/core/trajectory_eval.h"
 #include "planemap/frontend/frontend.h"
@@ -18,6 +19,7 @@ struct AppConfig {
   FrontendConfig frontend;
   TrackingConfig tracking;
   MapMergeConfig merge;
+  BackendConfig backend;
   EvalConfig eval;
 
   template <class V>
@@ -27,6 +29,7 @@ struct AppConfig {
     v("frontend", frontend);
     v("tracking", tracking);
     v("merge", merge);
+    v("backend", backend);
     v("eval", eval);
   }
 };

@@ -45,6 +45,7 @@ struct MapOptions {
   std::string anchor = "auto";  // first pose: groundtruth | first (identity) | auto (ground truth if any)
   int max_frames = -1;          // < 0: all
   int stride = 1;               // use every n-th frame
+  bool refine = false;          // batch back end after tracking: trajectory_refined.txt, map.json refined
 };
 
 struct EvalOptions {

@@ -66,6 +66,17 @@ struct MapObject {
   std::vector<std::pair<int, int>> grasp_votes;          // (landmark, times chosen as grasp side)
   int grasp_landmark = -1;                               // the most chosen: the grasp axis is its normal
   int x_landmark = -1;                                   // the face whose normal is the x axis
+  // How certain the estimate is: marginals of the back end's solution (ceres::Covariance), set
+  // when it refined the object as a cuboid. A dimension only bounded from below (held at its
+  // bound) has no standard deviation (-1).
+  struct Uncertainty {
+    bool known = false;
+    Eigen::Matrix3d dimension_covariance = Eigen::Matrix3d::Zero();  // [m^2]
+    Eigen::Vector3d dimension_std = Eigen::Vector3d::Constant(-1.0);  // [m]
+    Eigen::Matrix3d center_covariance = Eigen::Matrix3d::Zero();     // world axes [m^2]
+    Eigen::Vector3d axes_std_deg = Eigen::Vector3d::Zero();          // direction of each box axis [deg]
+    double grasp_axis_std_deg = -1.0;                                // [deg], -1 without a grasp axis
+  } uncertainty;
 };
 
 struct Keyframe {

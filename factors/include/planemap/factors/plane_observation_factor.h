@@ -23,11 +23,33 @@
 
 namespace planemap {
 
+// A floor on a plane observation's covariance, applied where the plane was seen: a tilt of
+// sigma_normal [rad] about the inliers' centroid c and a shift of sigma_offset [m] along the normal
+// there. In (n, d) that is delta d = -delta n . c + delta d_c, so a far plane's small tilt moves its
+// offset at the camera a lot, and the floor keeps that correlation (a floor added to (n, d)
+// directly would let a far plane's offset and tilt err independently). Returns covariance + floor.
+inline Eigen::Matrix4d FlooredPlaneCovariance(const Plane& observed, const Eigen::Vector3d& centroid,
+                                              const Eigen::Matrix4d& covariance, double sigma_normal, double sigma_offset) {
+  const Eigen::Vector3d n = observed.normal.normalized();
+  const Eigen::Vector3d a = n.unitOrthogonal(), b = n.cross(a);
+  // Columns: (n, d) per unit tilt about a, about b, and per unit shift, all at the centroid.
+  Eigen::Matrix<double, 4, 3> J = Eigen::Matrix<double, 4, 3>::Zero();
+  J.block<3, 1>(0, 0) = a;
+  J.block<3, 1>(0, 1) = b;
+  J(3, 0) = -a.dot(centroid);
+  J(3, 1) = -b.dot(centroid);
+  J(3, 2) = 1.0;
+  const Eigen::Vector3d floor(sigma_normal * sigma_normal, sigma_normal * sigma_normal, sigma_offset * sigma_offset);
+  return covariance + J * floor.asDiagonal() * J.transpose();
+}
+
 class PlaneObservationFactor {
  public:
   // `min_std` floors the residual's standard deviations (rad for the normal rows, m for the
-  // offset): a plane fit from thousands of points can claim a precision the model cannot hold.
-  PlaneObservationFactor(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std)
+  // offset; `min_std_offset` for the offset row when given, >= 0): a plane fit from thousands of
+  // points can claim a precision the model cannot hold.
+  PlaneObservationFactor(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std,
+                         double min_std_offset = -1.0)
       : normal_(observed.normal.normalized()), offset_(observed.offset) {
     const Eigen::Vector3d a = normal_.unitOrthogonal();
     basis_.col(0) = a;
@@ -36,7 +58,9 @@ class PlaneObservationFactor {
     J.block<2, 3>(0, 0) = basis_.transpose();
     J(2, 3) = 1.0;
     Eigen::Matrix3d sigma = J * covariance * J.transpose();
-    sigma += std::max(min_std, 0.0) * std::max(min_std, 0.0) * Eigen::Matrix3d::Identity();
+    const double floor_normal = std::max(min_std, 0.0);
+    const double floor_offset = min_std_offset >= 0.0 ? min_std_offset : floor_normal;
+    sigma += Eigen::Vector3d(floor_normal * floor_normal, floor_normal * floor_normal, floor_offset * floor_offset).asDiagonal();
     // L = chol(Sigma^-1)^T, upper triangular: |L e|^2 = e^T Sigma^-1 e.
     sqrt_information_ = Eigen::LLT<Eigen::Matrix3d>(sigma.inverse()).matrixL().transpose();
   }
@@ -64,9 +88,10 @@ class PlaneObservationFactor {
     whitened = sqrt_information_.cast<T>() * e;
   }
 
-  static ceres::CostFunction* Create(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std) {
+  static ceres::CostFunction* Create(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std,
+                                     double min_std_offset = -1.0) {
     return new ceres::AutoDiffCostFunction<PlaneObservationFactor, 3, 7, 4>(
-        new PlaneObservationFactor(observed, covariance, min_std));
+        new PlaneObservationFactor(observed, covariance, min_std, min_std_offset));
   }
 
   const Eigen::Matrix3d& sqrt_information() const { return sqrt_information_; }

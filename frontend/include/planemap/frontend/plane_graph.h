@@ -21,6 +21,7 @@ struct PlaneGraphConfig {
   double floor_min_distance = 0.2;      // the floor lies at least this far below the camera [m]
   double structure_min_extent = 2.0;    // planes whose inliers span more are room structure [m]
   double corner_max_distance = 0.1;     // a trihedral corner lies this close to its three edges [m]
+  double corner_snap_distance = 0.03;   // an edge end this close to a corner ends at it [m]
   double corner_min_determinant = 0.3;  // |det(n1, n2, n3)|: below, the three planes are too close
                                         // to sharing a line for a stable corner
   double resting_max_tilt_deg = 30.0;   // a top and a face within this of horizontal and vertical
@@ -34,6 +35,7 @@ struct PlaneGraphConfig {
     v("floor_min_distance", floor_min_distance, Check::kNonNegative);
     v("structure_min_extent", structure_min_extent, Check::kPositive);
     v("corner_max_distance", corner_max_distance, Check::kPositive);
+    v("corner_snap_distance", corner_snap_distance, Check::kNonNegative);
     v("corner_min_determinant", corner_min_determinant, Check::kProbability);
     v("resting_max_tilt_deg", resting_max_tilt_deg, Check::kPositive);
   }

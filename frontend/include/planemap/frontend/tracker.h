@@ -13,6 +13,7 @@
 
 #include "planemap/core/config.h"
 #include "planemap/core/frame_model.h"
+#include "planemap/core/observations.h"
 #include "planemap/core/plane_map.h"
 #include "planemap/frontend/organized_cloud.h"
 #include "planemap/frontend/plane_registration.h"
@@ -148,6 +149,8 @@ class Tracker {
 
   const PlaneMap& map() const { return map_; }
   int frames() const { return frame_; }
+  // Per frame tracked so far (lost ones too): its pose and what it observed, for the back end.
+  const std::vector<FrameObservations>& observations() const { return observations_; }
 
  private:
   struct Observation;  // a frame plane in the world under a pose
@@ -169,12 +172,14 @@ class Tracker {
   // The distance gate widens by `drift` times the landmark normal's part along unobserved_.
   std::vector<Candidate> Associate(const std::vector<Observation>& observed, double max_angle_deg,
                                    double max_distance, int per_plane, double drift) const;
+  // Merges the frame's edges and objects into the map; records the object matches in `record`.
   void MergeEdgesAndObjects(const FrameModel& model, const std::vector<int>& landmark_of_plane,
-                            const Pose3& T_world_camera);
+                            const Pose3& T_world_camera, FrameObservations* record);
 
   TrackingConfig config_;
   Pose3 T_world_first_;
   PlaneMap map_;
+  std::vector<FrameObservations> observations_;
   std::vector<std::unordered_set<long long>> voxels_;  // per landmark: the voxels it holds
   std::deque<std::pair<double, Pose3>> history_;        // tracked and degraded poses within velocity_window
   int frame_ = 0;

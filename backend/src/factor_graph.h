@@ -1,0 +1,84 @@
+#pragma once
+// One Ceres problem over a run of frames: the batch solves every frame with free landmarks and
+// cuboids, the sliding window a few frames against fixed landmarks. Private to backend/.
+#include <array>
+#include <deque>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <ceres/normal_prior.h>
+
+#include "planemap/backend/backend.h"
+#include "planemap/factors/parameters.h"
+
+namespace planemap::backend_detail {
+
+struct GraphSpec {
+  bool free_landmarks = true;   // else every landmark is held at the map's plane
+  bool cuboids = true;          // objects of cuboid classes become boxes
+  bool gauge_prior = true;      // a prior on the first pose; else the first pose is held
+  int max_iterations = 50;
+  bool drop_outliers = true;    // BackendConfig::outlier_rounds rounds after the first solve
+  // Each frame's tracking pose as a measurement with these sigmas (0: none) [m, rad].
+  double tracking_sigma = 0.0, tracking_sigma_rad = 0.0;
+};
+
+class FactorGraph {
+ public:
+  // frames[i] starts at initial[i]. Throws std::invalid_argument on a bad config value or an
+  // observation naming a landmark or object the map lacks.
+  FactorGraph(const PlaneMap& map, const std::vector<const FrameObservations*>& frames, const std::vector<Pose3>& initial,
+              const BackendConfig& config, const GraphSpec& spec);
+
+  SolveReport Solve();
+  Pose3 pose(size_t i) const { return PoseFromBlock(poses_[i].data()); }
+  // Writes the refined landmarks and cuboid objects into `map` (the map the graph was built from).
+  void Write(PlaneMap* map) const;
+  // Marginal covariances of every cuboid into `map`'s objects; false with `error` when Ceres
+  // could not compute them (a rank-deficient problem).
+  bool Covariances(PlaneMap* map, std::string* error, double* seconds);
+
+ private:
+  struct Face {
+    int cuboid = -1, axis = 0, side = 1;
+  };
+  struct Cuboid {
+    int object = -1;
+    PoseBlock pose{};
+    std::array<double, 3> dimensions{};
+    std::array<double, 3> edge_bias{};  // the error every view's edges share, per axis [m]
+    std::array<bool, 3> held{};  // only bounded from below: held at the bound
+  };
+  void AddCuboids(const std::vector<const FrameObservations*>& frames, const std::vector<Pose3>& initial);
+  ceres::LossFunction* Loss() const { return loss_; }
+
+  const PlaneMap& map_;
+  BackendConfig config_;
+  GraphSpec spec_;
+  ceres::Problem problem_{[] {
+    ceres::Problem::Options options;
+    options.enable_fast_removal = true;  // outlier rounds remove residual blocks
+    return options;
+  }()};
+  ceres::LossFunction* loss_ = nullptr;   // shared, owned by problem_ (null: plain least squares)
+  ceres::Manifold* pose_manifold_ = nullptr;
+  ceres::Manifold* plane_manifold_ = nullptr;
+  std::deque<PoseBlock> poses_;            // deques: blocks keep their addresses
+  std::map<int, PlaneBlock> landmarks_;    // by landmark id
+  std::deque<Cuboid> cuboids_;
+  std::map<int, Face> face_of_landmark_;
+  // Plane observations (on a landmark or a box face), for the outlier rounds.
+  struct Observed {
+    ceres::ResidualBlockId block = nullptr;
+    size_t pose = 0;
+    int landmark = -1;
+    const PlaneObservation* observation = nullptr;
+  };
+  // The world plane the graph now holds for a landmark (its block or its box's face).
+  Plane WorldPlane(int landmark) const;
+  std::vector<Observed> observations_;
+};
+
+}  // namespace planemap::backend_detail
