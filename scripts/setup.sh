@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build lld pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev libpcl-dev libopencv-dev
-  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
+  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libboost-math-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -218,7 +218,7 @@ TEST(MapMerge, TwoHalvesOfARenderedWalkMergeIntoOneMap) {
   EXPECT_LT(r.map.landmarks.size(), first.map.landmarks.size() + second.map.landmarks.size());
 
   // The box, in the scene's world (the first map's): the class, size and axis against the scene.
-  const std::vector<ObjectError> errors = EvaluateObjects(testing::Truths(scene), MapObjectEstimates(r.map), EvalConfig{});
+  const std::vector<ObjectError> errors = EvaluateObjects(sim::ObjectTruths(scene), MapObjectEstimates(r.map), EvalConfig{});
   bool checked = false;
   for (const ObjectError& e : errors) {
     if (!e.found()) continue;

@@ -22,7 +22,6 @@ namespace {
 using testing::SourcePath;
 using testing::TrackedRun;
 using testing::TrackWalk;
-using testing::Truths;
 
 // Each walk goes about 3.5 m past the scene's other furniture, turns, and approaches the box
 // diagonally to about 0.65 m, so that two of its sides and its top are seen whole (from a 52 cm
@@ -58,7 +57,7 @@ TEST_P(TrackedWalk, AteUnderTwoCentimetresNoFrameLostBoxSizeAndAxis) {
   EXPECT_LE(t.ate.translation.rmse, 0.02) << "m";
 
   // The map is in the ground truth's world (first pose anchored): no alignment for objects.
-  const std::vector<ObjectError> errors = EvaluateObjects(Truths(scene), MapObjectEstimates(run.map), EvalConfig{});
+  const std::vector<ObjectError> errors = EvaluateObjects(sim::ObjectTruths(scene), MapObjectEstimates(run.map), EvalConfig{});
   bool checked = false;
   for (const ObjectError& e : errors) {
     if (!e.found()) {

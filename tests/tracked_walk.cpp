@@ -50,11 +50,6 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
   return run;
 }
 
-std::vector<ObjectTruth> Truths(const sim::Scene& scene) {
-  std::vector<ObjectTruth> truths;
-  for (const sim::SceneObject& o : scene.objects) truths.push_back({o.name, o.type, o.T_world_object, o.dimensions});
-  return truths;
-}
 
 
 }  // namespace planemap::testing

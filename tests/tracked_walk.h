@@ -1,7 +1,6 @@
 #pragma once
 // Rendered Nao-like walks tracked by the product, for tracking and map tests: the ground truth,
-// the estimate, each frame's status and the map; the scene's objects as evaluation truths and a
-// map's objects as estimates.
+// the estimate, each frame's status and the map.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -34,6 +33,5 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
                      std::size_t last = std::numeric_limits<std::size_t>::max(),
                      const Pose3& T_run_world = Pose3::Identity(), const BackendConfig& backend = BackendConfig{});
 
-std::vector<ObjectTruth> Truths(const sim::Scene& scene);
 
 }  // namespace planemap::testing

@@ -29,12 +29,6 @@ sim::Scene LoadSceneOrSequence(const std::string& path) {
   return sim::LoadScene(ResolveConfigPath(path));
 }
 
-std::vector<ObjectTruth> Truths(const sim::Scene& scene) {
-  std::vector<ObjectTruth> truths;
-  for (const sim::SceneObject& o : scene.objects) truths.push_back({o.name, o.type, o.T_world_object, o.dimensions});
-  return truths;
-}
-
 // The transform that moves map objects into the ground truth's world (eval.object_alignment).
 Pose3 ObjectAlignment(const TrajectoryEvaluation& result, const std::string& mode, const std::string& config_file) {
   if (mode == "first_pose") return result.T_groundtruth_estimate_first;
@@ -194,7 +188,7 @@ int RunEval(const EvalOptions& options) {
     for (const ObjectEstimate& o : MapObjectEstimates(ReadPlaneMapJson(options.map))) {
       objects->estimates.push_back(Transformed(T_groundtruth_map, o));
     }
-    objects->errors = EvaluateObjects(Truths(scene), objects->estimates, config);
+    objects->errors = EvaluateObjects(sim::ObjectTruths(scene), objects->estimates, config);
     PrintObjects(*objects);
   }
   if (!options.csv.empty()) {

@@ -72,6 +72,21 @@ int main(int argc, char** argv) {
                     "Refine poses, planes and boxes jointly with the Ceres back end (batch) after tracking; writes "
                     "trajectory_refined.txt and a map.json with each box's standard deviations");
 
+  planemap::ConsistencyOptions nees;
+  CLI::App* nees_cmd = app.add_subcommand(
+      "nees", "Are the back end's box-size covariances honest? Seeded renderings of a walk, each tracked and refined: "
+              "the boxes' dimension errors against their covariances (NEES) and the 95% chi-square interval");
+  nees_cmd->add_option("--scene", nees.scene, "Scene (YAML)")->capture_default_str();
+  nees_cmd->add_option("--trajectory", nees.trajectory, "Walk (YAML) or TUM trajectory")->capture_default_str();
+  nees_cmd->add_option("--camera", nees.camera, "Camera intrinsics (YAML)")->capture_default_str();
+  nees_cmd->add_option("--config", nees.config, "Settings (YAML)")->capture_default_str();
+  nees_cmd->add_option("--patterns", nees.patterns, "Object graph patterns (YAML)")->capture_default_str();
+  nees_cmd->add_option("--runs", nees.runs, "Seeded runs")->capture_default_str();
+  nees_cmd->add_option("--seed", nees.first_seed, "Seed of the first run (run k: seed + k)")->capture_default_str();
+  nees_cmd->add_option("--stride", nees.stride, "Use every n-th pose of the walk")->capture_default_str();
+  nees_cmd->add_option("--threads", nees.threads, "Runs in parallel (0: every core)")->capture_default_str();
+  nees_cmd->add_option("--csv", nees.csv, "Write every run's errors, standard deviations and NEES here");
+
   planemap::EvalOptions eval;
   CLI::App* eval_cmd = app.add_subcommand(
       "eval", "Trajectory error (ATE, RPE) against ground truth; with --map and --scene, the map's object errors");
@@ -105,6 +120,7 @@ int main(int argc, char** argv) {
     if (frame_cmd->parsed()) return planemap::RunFrame(frame);
     if (eval_cmd->parsed()) return planemap::RunEval(eval);
     if (map_cmd->parsed()) return planemap::RunMap(map);
+    if (nees_cmd->parsed()) return planemap::RunNees(nees);
     if (merge_cmd->parsed()) return planemap::RunMerge(merge);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());

@@ -90,13 +90,28 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
   }
   // Tracking's motion between consecutive frames: weak, it holds what the planes leave free.
   const Eigen::Matrix<double, 6, 6> odometry = SqrtInformation(config.odometry_sigma, config.odometry_sigma_deg * kDegToRad);
+  // Weak frames: tracking marked them degraded, or their observed planes' normals span fewer than
+  // 3 directions (the smallest singular value of the normals stacked as rows below
+  // min_normal_spread). Into a weak frame tracking's motion is what fixes the directions its
+  // planes leave free, so it counts more.
+  std::vector<bool> weak(frames.size(), false);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (const PlaneObservation& o : frames[i]->planes) scatter += o.plane.normal * o.plane.normal.transpose();
+    const double spread = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues()[0]));
+    weak[i] = frames[i]->degraded || spread < config.min_normal_spread;
+  }
+  const Eigen::Matrix<double, 6, 6> degraded =
+      SqrtInformation(config.degraded_odometry_sigma, config.degraded_odometry_sigma_deg * kDegToRad);
   for (size_t i = 1; i < frames.size(); ++i) {
     const Pose3 motion = frames[i - 1]->T_world_camera.inverse() * frames[i]->T_world_camera;
-    problem_.AddResidualBlock(RelativePoseFactor::Create(motion, odometry), nullptr, poses_[i - 1].data(), poses_[i].data());
+    problem_.AddResidualBlock(RelativePoseFactor::Create(motion, weak[i] ? degraded : odometry), nullptr, poses_[i - 1].data(),
+                              poses_[i].data());
   }
   if (spec.tracking_sigma > 0.0) {
     const Eigen::Matrix<double, 6, 6> tracking = SqrtInformation(spec.tracking_sigma, spec.tracking_sigma_rad);
     for (size_t i = 0; i < frames.size(); ++i) {
+      if (spec.tracking_prior_weak_only && !weak[i]) continue;
       problem_.AddResidualBlock(PosePriorFactor::Create(frames[i]->T_world_camera, tracking), nullptr, poses_[i].data());
     }
   }
@@ -189,17 +204,20 @@ void FactorGraph::AddCuboids(const std::vector<const FrameObservations*>& frames
     const Eigen::Matrix3d R = Orthonormal(o.axes);
     c.pose = ToBlock(MakePose(Eigen::Quaterniond(R), o.center));
     for (int k = 0; k < 3; ++k) c.dimensions[k] = std::max(o.dimensions[k], config_.min_dimension);
-    std::vector<Face> faces;
+    std::vector<std::pair<int, Face>> faces;
+    std::array<bool, 3> axes_seen{};
     for (int l : o.landmarks) {
       if (face_of_landmark_.count(l)) continue;  // a face of an earlier box
       double cosine = 0.0;
       const Eigen::Vector3d n = map_.landmarks[l].plane.normal;
       const int k = NearestAxis(R, n, &cosine);
       if (cosine < face_cosine) continue;  // not along an axis: stays a landmark
-      faces.push_back({static_cast<int>(cuboids_.size()), k, (R.col(k).dot(n) > 0.0) ? 1 : -1});
-      face_of_landmark_[l] = faces.back();
+      faces.push_back({l, {static_cast<int>(cuboids_.size()), k, (R.col(k).dot(n) > 0.0) ? 1 : -1}});
+      axes_seen[k] = true;
     }
-    if (faces.empty()) continue;
+    // Faces along two axes at least fix the box's orientation; else its faces stay landmarks.
+    if (axes_seen[0] + axes_seen[1] + axes_seen[2] < 2) continue;
+    for (const auto& [l, face] : faces) face_of_landmark_[l] = face;
     cuboid_of_object[o.id] = static_cast<int>(cuboids_.size());
     cuboids_.push_back(c);
     problem_.AddParameterBlock(cuboids_.back().pose.data(), 7, pose_manifold_);
@@ -289,6 +307,17 @@ SolveReport FactorGraph::Solve() {
     }
     if (kept.size() == observations_.size()) break;
     observations_ = std::move(kept);
+    // A landmark all of whose observations went is no longer in the problem (its map plane stays).
+    for (auto it = landmarks_.begin(); it != landmarks_.end();) {
+      std::vector<ceres::ResidualBlockId> left;
+      problem_.GetResidualBlocksForParameterBlock(it->second.data(), &left);
+      if (left.empty()) {
+        problem_.RemoveParameterBlock(it->second.data());
+        it = landmarks_.erase(it);
+      } else {
+        ++it;
+      }
+    }
     ceres::Solve(options, &problem_, &summary);
     total_seconds += summary.total_time_in_seconds;
     minimizer_seconds += summary.minimizer_time_in_seconds;

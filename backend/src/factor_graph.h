@@ -23,6 +23,7 @@ struct GraphSpec {
   bool drop_outliers = true;    // BackendConfig::outlier_rounds rounds after the first solve
   // Each frame's tracking pose as a measurement with these sigmas (0: none) [m, rad].
   double tracking_sigma = 0.0, tracking_sigma_rad = 0.0;
+  bool tracking_prior_weak_only = false;  // ... on weak frames only
 };
 
 class FactorGraph {

@@ -418,6 +418,12 @@ YAML::Node Vector(const Eigen::VectorXd& v) {
 
 }  // namespace
 
+std::vector<ObjectTruth> ObjectTruths(const Scene& scene) {
+  std::vector<ObjectTruth> truths;
+  for (const SceneObject& o : scene.objects) truths.push_back({o.name, o.type, o.T_world_object, o.dimensions});
+  return truths;
+}
+
 YAML::Node SceneGroundTruth(const Scene& scene) {
   YAML::Node root;
   root["scene"] = scene.name;

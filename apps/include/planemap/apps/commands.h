@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "planemap/apps/consistency.h"
+
 namespace planemap {
 
 struct RenderOptions {
@@ -72,5 +74,6 @@ int RunMap(const MapOptions& options);
 int RunFrame(const FrameOptions& options);
 int RunInspect(const InspectOptions& options);
 int RunEval(const EvalOptions& options);
+int RunNees(const ConsistencyOptions& options);
 
 }  // namespace planemap

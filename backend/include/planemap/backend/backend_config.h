@@ -31,6 +31,12 @@ struct BackendConfig {
   // what the planes leave free (a degraded or lost frame's unobserved directions).
   double odometry_sigma = 0.02;          // per frame, translation [m]
   double odometry_sigma_deg = 1.0;       // per frame, rotation [deg]
+  // Into a weak frame (tracking marked it degraded, or the planes it observed span fewer than 3
+  // directions: the smallest singular value of their normals below min_normal_spread), tracking's
+  // motion is the measurement of the rest: tighter.
+  double min_normal_spread = 0.1;
+  double degraded_odometry_sigma = 0.002;   // [m]
+  double degraded_odometry_sigma_deg = 0.1; // [deg]
   double gauge_sigma = 1e-4;             // prior on the first pose (the gauge) [m]
   double gauge_sigma_deg = 0.01;         // [deg]
   // Objects of these classes become cuboids (pose + 3 positive dimensions): their faces'
@@ -64,6 +70,10 @@ struct BackendConfig {
   double function_tolerance = 1e-8;
   int threads = 1;
   bool covariance = true;                // marginal covariances of each cuboid (batch)
+  // Batch: each frame's tracking pose as a weak measurement (0: none), which keeps stretches that
+  // planes fix only in part from drifting along what they leave free.
+  double batch_tracking_sigma = 0.01;      // [m]
+  double batch_tracking_sigma_deg = 0.5;   // [deg]
   // Sliding window: the last window_size frames, the oldest held fixed; landmarks as the map has them.
   int window_size = 10;
   int window_max_iterations = 10;
@@ -79,6 +89,9 @@ struct BackendConfig {
     v("plane_min_std", plane_min_std, Check::kPositive);
     v("odometry_sigma", odometry_sigma, Check::kPositive);
     v("odometry_sigma_deg", odometry_sigma_deg, Check::kPositive);
+    v("min_normal_spread", min_normal_spread, Check::kPositive);
+    v("degraded_odometry_sigma", degraded_odometry_sigma, Check::kPositive);
+    v("degraded_odometry_sigma_deg", degraded_odometry_sigma_deg, Check::kPositive);
     v("gauge_sigma", gauge_sigma, Check::kPositive);
     v("gauge_sigma_deg", gauge_sigma_deg, Check::kPositive);
     v("cuboid_labels", cuboid_labels);
@@ -101,6 +114,8 @@ struct BackendConfig {
     v("function_tolerance", function_tolerance, Check::kPositive);
     v("threads", threads, Check::kPositive);
     v("covariance", covariance);
+    v("batch_tracking_sigma", batch_tracking_sigma, Check::kNonNegative);
+    v("batch_tracking_sigma_deg", batch_tracking_sigma_deg, Check::kNonNegative);
     v("window_size", window_size, Check::kPositive);
     v("window_max_iterations", window_max_iterations, Check::kPositive);
     v("window_tracking_sigma", window_tracking_sigma, Check::kNonNegative);

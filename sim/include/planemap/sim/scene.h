@@ -81,10 +81,15 @@ Scene LoadScene(const std::string& file);
 
 #include <yaml-cpp/yaml.h>
 
+#include "planemap/core/object_eval.h"
+
 namespace planemap::sim {
 
 // The scene's exact geometry for evaluation: objects (pose, dimensions) and every surface
 // (label, owner, plane n.x + d = 0 in the world, centre, half extents).
 YAML::Node SceneGroundTruth(const Scene& scene);
+
+// The scene's objects as evaluation truths (EvaluateObjects).
+std::vector<ObjectTruth> ObjectTruths(const Scene& scene);
 
 }  // namespace planemap::sim
