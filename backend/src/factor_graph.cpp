@@ -125,13 +125,16 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
                                     ", the map has " + std::to_string(map.landmarks.size()));
       }
       const Eigen::Matrix4d covariance = FlooredPlaneCovariance(o.plane, o.centroid, o.covariance, min_std_normal, config.plane_min_std);
+      const double normal_std = std::sqrt(std::max(0.0, covariance.topLeftCorner<3, 3>().trace() / 2.0));
+      const Eigen::Vector4d at_centroid(o.centroid.x(), o.centroid.y(), o.centroid.z(), 1.0);
+      const double offset_std = std::sqrt(std::max(0.0, at_centroid.dot(covariance * at_centroid)));
       const auto face = face_of_landmark_.find(o.landmark);
       if (face != face_of_landmark_.end()) {
         Cuboid& c = cuboids_[face->second.cuboid];
         observations_.push_back({problem_.AddResidualBlock(
                                      BoxFaceFactor::Create(face->second.axis, face->second.side, o.plane, covariance, 0.0), Loss(),
                                      poses_[i].data(), c.pose.data(), c.dimensions.data()),
-                                 i, o.landmark, &o});
+                                 i, o.landmark, &o, normal_std, offset_std});
         continue;
       }
       auto [it, added] = landmarks_.try_emplace(o.landmark, ToBlock(map.landmarks[o.landmark].plane));
@@ -141,7 +144,7 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
       }
       observations_.push_back(
           {problem_.AddResidualBlock(PlaneObservationFactor::Create(o.plane, covariance, 0.0), Loss(), poses_[i].data(), it->second.data()),
-           i, o.landmark, &o});
+           i, o.landmark, &o, normal_std, offset_std});
     }
   }
   // Optional structure: landmarks the map's edges join at near right angles are perpendicular.
@@ -298,7 +301,10 @@ SolveReport FactorGraph::Solve() {
       const Plane in_camera = TransformPlane(pose(o.pose).inverse(), WorldPlane(o.landmark));
       const double angle = std::acos(std::clamp(in_camera.normal.dot(o.observation->plane.normal), -1.0, 1.0));
       const double distance = std::abs(in_camera.SignedDistance(o.observation->centroid));
-      if (angle > max_angle || distance > config_.outlier_max_distance) {
+      // Off by more than the gate and more than outlier_max_sigma of its own uncertainty (a far,
+      // small plane's normal is only known to a degree or two).
+      if (angle > std::max(max_angle, config_.outlier_max_sigma * o.normal_std) ||
+          distance > std::max(config_.outlier_max_distance, config_.outlier_max_sigma * o.offset_std)) {
         problem_.RemoveResidualBlock(o.block);
         ++outliers;
       } else {

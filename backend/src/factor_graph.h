@@ -76,6 +76,8 @@ class FactorGraph {
     size_t pose = 0;
     int landmark = -1;
     const PlaneObservation* observation = nullptr;
+    double normal_std = 0.0;  // the observation's own tilt [rad] and offset at its centroid [m]
+    double offset_std = 0.0;  // standard deviations (floored covariance)
   };
   // The world plane the graph now holds for a landmark (its block or its box's face).
   Plane WorldPlane(int landmark) const;

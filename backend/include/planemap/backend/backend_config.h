@@ -64,8 +64,9 @@ struct BackendConfig {
   int outlier_rounds = 2;
   double outlier_max_angle_deg = 1.0;  // [deg]
   double outlier_max_distance = 0.01;  // [m]
+  double outlier_max_sigma = 3.0;      // ... and by more than this many of its own standard deviations
   // Solver: sparse_schur or sparse_normal_cholesky (SuiteSparse underneath).
-  std::string linear_solver = "sparse_schur";
+  std::string linear_solver = "sparse_normal_cholesky";
   int max_iterations = 100;
   double function_tolerance = 1e-8;
   int threads = 1;
@@ -109,6 +110,7 @@ struct BackendConfig {
     v("outlier_rounds", outlier_rounds, Check::kNonNegative);
     v("outlier_max_angle_deg", outlier_max_angle_deg, Check::kPositive);
     v("outlier_max_distance", outlier_max_distance, Check::kPositive);
+    v("outlier_max_sigma", outlier_max_sigma, Check::kPositive);
     v("linear_solver", linear_solver);
     v("max_iterations", max_iterations, Check::kPositive);
     v("function_tolerance", function_tolerance, Check::kPositive);
