@@ -39,6 +39,7 @@
 #include "planemap/core/detected_plane.h"
 #include "planemap/core/observations.h"
 #include "planemap/core/plane_map.h"
+#include "planemap/core/statistics.h"
 
 namespace planemap {
 namespace {
@@ -309,16 +310,6 @@ std::vector<Pose3> TrackingPoses() {
   return poses;
 }
 
-// Linear interpolation between order statistics (numpy's default).
-double Percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double rank = q / 100.0 * static_cast<double>(values.size() - 1);
-  const size_t below = static_cast<size_t>(rank);
-  const size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (rank - static_cast<double>(below)) * (values[above] - values[below]);
-}
-
 // Each method's figures, for the table printed after the run.
 struct MethodResult {
   double total_ms = 0.0, p95_ms = 0.0;  // batch: the whole RefineBatch call; window: median Update, p95
@@ -356,8 +347,8 @@ void RunBatch(benchmark::State& state, const std::string& linear_solver) {
     state.SetIterationTime(wall.back());
   }
   MethodResult r;
-  r.total_ms = 1000.0 * Percentile(wall, 50.0);
-  r.solve_ms = 1000.0 * Percentile(solve, 50.0);
+  r.total_ms = 1000.0 * Percentile(wall, 0.5);
+  r.solve_ms = 1000.0 * Percentile(solve, 0.5);
   r.iterations = result.report.iterations;
   r.ms_per_iteration = 1000.0 * result.report.seconds_per_iteration;
   r.ate_before_mm = AteMm(TrackingPoses(), p.truth.size());
@@ -408,10 +399,10 @@ void RunWindow(benchmark::State& state, const std::string& linear_solver) {
     state.SetIterationTime(seconds);
   }
   MethodResult r;
-  r.total_ms = Percentile(ms, 50.0);
-  r.p95_ms = Percentile(ms, 95.0);
-  r.iterations = Percentile(iterations, 50.0);
-  r.ms_per_iteration = Percentile(ms_per_iteration, 50.0);
+  r.total_ms = Percentile(ms, 0.5);
+  r.p95_ms = Percentile(ms, 0.95);
+  r.iterations = Percentile(iterations, 0.5);
+  r.ms_per_iteration = Percentile(ms_per_iteration, 0.5);
   r.ate_before_mm = AteMm(TrackingPoses(), kWindowFrames);
   r.ate_after_mm = AteMm(smoothed, kWindowFrames);
   r.linear_solver = solver;

@@ -29,6 +29,7 @@
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/registration/gicp.h>
 
+#include "planemap/core/statistics.h"
 #include "planemap/core/trajectory_eval.h"
 #include "planemap/frontend/frontend.h"
 #include "planemap/frontend/plane_registration.h"
@@ -99,16 +100,6 @@ std::map<std::string, MethodResult>& Results() {
   return results;
 }
 
-// Linear interpolation between order statistics (numpy's default).
-double Percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double rank = q / 100.0 * static_cast<double>(values.size() - 1);
-  const size_t below = static_cast<size_t>(rank);
-  const size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (rank - static_cast<double>(below)) * (values[above] - values[below]);
-}
-
 // Runs the sequence through a fresh step per benchmark iteration, timing each frame's step alone
 // (the cloud is built outside the clock); counters: per-frame median and p95, ATE RMSE.
 void RunSequence(benchmark::State& state, const std::string& name, const std::function<Step()>& make_step) {
@@ -133,8 +124,8 @@ void RunSequence(benchmark::State& state, const std::string& name, const std::fu
     state.SetIterationTime(seconds);
   }
   state.counters["frames"] = static_cast<double>(result.ms.size());
-  state.counters["median_ms"] = Percentile(result.ms, 50.0);
-  state.counters["p95_ms"] = Percentile(result.ms, 95.0);
+  state.counters["median_ms"] = Percentile(result.ms, 0.5);
+  state.counters["p95_ms"] = Percentile(result.ms, 0.95);
   if (!estimate.empty()) {
     const TrajectoryEvaluation e = EvaluateTrajectory(data.truth, estimate, EvalConfig{}, "truth", name);
     result.ate_mm = 1000.0 * e.ate.translation.rmse;
@@ -285,13 +276,13 @@ void PrintSummary() {
   const auto& results = Results();
   const auto reference = results.find("planemap (refine points)");
   if (reference == results.end()) return;
-  const double reference_ms = Percentile(reference->second.ms, 50.0);
+  const double reference_ms = Percentile(reference->second.ms, 0.5);
   std::printf("\nTracking %zu frames of 640x480 (default walk: straight, turn, approach; 5 Hz, full noise), one thread; ms per frame:\n",
               reference->second.ms.size());
   std::printf("  %-36s %8s %8s %9s %8s\n", "", "median", "p95", "x ours", "ATE mm");
   auto row = [&](const std::string& name, const std::vector<double>& ms, std::optional<double> ate_mm) {
-    const double median = Percentile(ms, 50.0);
-    std::printf("  %-36s %8.2f %8.2f %8.1fx", name.c_str(), median, Percentile(ms, 95.0), median / reference_ms);
+    const double median = Percentile(ms, 0.5);
+    std::printf("  %-36s %8.2f %8.2f %8.1fx", name.c_str(), median, Percentile(ms, 0.95), median / reference_ms);
     if (ate_mm) std::printf(" %8.1f", *ate_mm);
     std::printf("\n");
   };

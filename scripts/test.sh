@@ -12,7 +12,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   # The sanitized build runs every test but the longest rendered walks (3-4 min each there), whose
   # code paths the default walk, the single-wall walk and the rendered merge already take.
-  exclude='TrackedWalk.*/(storeroom|office)'
+  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)'
 else
   build_dir=build
   bash scripts/build.sh "$build_dir"

@@ -21,9 +21,7 @@ using testing::TrackedRun;
 using testing::TrackWalk;
 
 struct WalkCase {
-  const char* scene;
-  std::vector<double> waypoints;
-  const char* box;
+  testing::SceneWalk walk;
   // The batch lowers the ATE by 30% (on the office walk by less: one of its landmarks holds two
   // surfaces tracking associated as one; see the README); it is never worse.
   bool ate_goal;
@@ -46,7 +44,8 @@ const ObjectError* BoxError(const std::vector<ObjectError>& errors, const char* 
 class RefinedWalk : public ::testing::TestWithParam<WalkCase> {};
 
 TEST_P(RefinedWalk, BatchLowersAteAndBoxErrorWindowNeverWorse) {
-  const WalkCase& c = GetParam();
+  const WalkCase& param = GetParam();
+  const testing::SceneWalk& c = param.walk;
   const sim::Scene scene = sim::LoadScene(SourcePath(c.scene));
   const TrackedRun run = TrackWalk(scene, c.waypoints, 11);
   const BatchResult batch = RefineBatch(run.map, run.observations, BackendConfig{});
@@ -71,8 +70,8 @@ TEST_P(RefinedWalk, BatchLowersAteAndBoxErrorWindowNeverWorse) {
               1000 * o.uncertainty.dimension_std.x(), 1000 * o.uncertainty.dimension_std.y(), 1000 * o.uncertainty.dimension_std.z(),
               1000 * b->center_error, 1000 * a->center_error, b->axis_error_deg, a->axis_error_deg);
   EXPECT_LE(ate_window, ate_tracking) << "m: the sliding window never worse than the tracking it smooths";
-  EXPECT_LE(ate_batch, c.ate_goal ? 0.7 * ate_tracking : ate_tracking) << "m";
-  if (c.dimension_goal) {
+  EXPECT_LE(ate_batch, param.ate_goal ? 0.7 * ate_tracking : ate_tracking) << "m";
+  if (param.dimension_goal) {
     EXPECT_LE(a->dimension_error.cwiseAbs().mean(), 0.7 * b->dimension_error.cwiseAbs().mean()) << "m";
   }
   // Never worse than tracking's sizes; the centre (from the box's faces, not eq. 7's corners)
@@ -88,16 +87,13 @@ TEST_P(RefinedWalk, BatchLowersAteAndBoxErrorWindowNeverWorse) {
 }
 
 std::string SceneName(const ::testing::TestParamInfo<WalkCase>& info) {
-  std::string name = info.param.scene;
-  name = name.substr(name.rfind('/') + 1);
-  return name.substr(0, name.find('.'));
+  return testing::SceneStem(info.param.walk);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Scenes, RefinedWalk,
-    ::testing::Values(WalkCase{"configs/scenes/default.yaml", {-0.7, -1.3, 1.95, -1.3, 2.03, -0.546}, "box", true, false},
-                      WalkCase{"configs/scenes/storeroom.yaml", {0.2, 1.3, 2.898, 1.645, 2.475, 0.739}, "crate", true, false},
-                      WalkCase{"configs/scenes/office.yaml", {0.3, 0.6, 3.378, 0.449, 2.79, 0.175}, "box", false, true}),
+    ::testing::Values(WalkCase{testing::SceneWalks()[0], true, false}, WalkCase{testing::SceneWalks()[1], true, false},
+                      WalkCase{testing::SceneWalks()[2], false, true}),
     SceneName);
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "planemap/core/statistics.h"
 #include "planemap/frontend/frontend.h"
 #include "planemap/frontend/pcd_source.h"
 #include "planemap/io/tum_sequence.h"
@@ -33,11 +34,6 @@ struct BoxFigures {
   std::vector<double> iou, perpendicular_error_deg, dimension_error;
   int scenes = 0, table_found = 0, table_in_object = 0;
 };
-
-double Percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[static_cast<size_t>(q * (v.size() - 1))];
-}
 
 void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
   const PcdFrame pcd = LoadOrganizedPcd(SharedPath("data/osd_boxes_learn/pcd/learn" + std::to_string(index) + ".pcd"), OpenNi());

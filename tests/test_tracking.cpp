@@ -23,19 +23,10 @@ using testing::SourcePath;
 using testing::TrackedRun;
 using testing::TrackWalk;
 
-// Each walk goes about 3.5 m past the scene's other furniture, turns, and approaches the box
-// diagonally to about 0.65 m, so that two of its sides and its top are seen whole (from a 52 cm
-// high camera a 25-30 cm box's top is seen only within about 1.3 m).
-struct WalkCase {
-  const char* scene;
-  std::vector<double> waypoints;  // x y pairs [m]
-  const char* box;                // the object whose size and axis are checked
-};
-
-class TrackedWalk : public ::testing::TestWithParam<WalkCase> {};
+class TrackedWalk : public ::testing::TestWithParam<testing::SceneWalk> {};
 
 TEST_P(TrackedWalk, AteUnderTwoCentimetresNoFrameLostBoxSizeAndAxis) {
-  const WalkCase& c = GetParam();
+  const testing::SceneWalk& c = GetParam();
   const sim::Scene scene = sim::LoadScene(SourcePath(c.scene));
   const TrackedRun run = TrackWalk(scene, c.waypoints, 11);
   int degraded = 0, lost = 0;
@@ -82,20 +73,11 @@ TEST_P(TrackedWalk, AteUnderTwoCentimetresNoFrameLostBoxSizeAndAxis) {
   EXPECT_TRUE(checked) << c.box << " is in the map";
 }
 
-std::string SceneName(const ::testing::TestParamInfo<WalkCase>& info) {
-  std::string name = info.param.scene;
-  name = name.substr(name.rfind('/') + 1);
-  return name.substr(0, name.find('.'));
+std::string SceneName(const ::testing::TestParamInfo<testing::SceneWalk>& info) {
+  return testing::SceneStem(info.param);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Scenes, TrackedWalk,
-    ::testing::Values(WalkCase{"configs/scenes/default.yaml", {-0.7, -1.3, 1.95, -1.3, 2.03, -0.546}, "box"},
-                      WalkCase{"configs/scenes/storeroom.yaml", {0.2, 1.3, 2.898, 1.645, 2.475, 0.739}, "crate"},
-                      // Long stretches see only planes along two directions (floor, east wall,
-                      // the locker's front, the shelf's bottom board): those frames are degraded.
-                      WalkCase{"configs/scenes/office.yaml", {0.3, 0.6, 3.378, 0.449, 2.79, 0.175}, "box"}),
-    SceneName);
+INSTANTIATE_TEST_SUITE_P(Scenes, TrackedWalk, ::testing::ValuesIn(testing::SceneWalks()), SceneName);
 
 TEST(Tracking, RealSequenceRunsEndToEndAndPrintsAte) {
   // TUM fr1/rpy, 100 frames of a handheld Kinect mostly rotating (1-4 deg per frame) in an

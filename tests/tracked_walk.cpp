@@ -12,6 +12,22 @@
 
 namespace planemap::testing {
 
+const std::vector<SceneWalk>& SceneWalks() {
+  static const std::vector<SceneWalk> walks{
+      {"configs/scenes/default.yaml", {-0.7, -1.3, 1.95, -1.3, 2.03, -0.546}, "box"},
+      {"configs/scenes/storeroom.yaml", {0.2, 1.3, 2.898, 1.645, 2.475, 0.739}, "crate"},
+      // Long stretches see only planes along two directions (floor, east wall, the locker's
+      // front, the shelf's bottom board): those frames are degraded.
+      {"configs/scenes/office.yaml", {0.3, 0.6, 3.378, 0.449, 2.79, 0.175}, "box"}};
+  return walks;
+}
+
+std::string SceneStem(const SceneWalk& walk) {
+  std::string name = walk.scene;
+  name = name.substr(name.rfind('/') + 1);
+  return name.substr(0, name.find('.'));
+}
+
 TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first,
                      std::size_t last, const Pose3& T_run_world, const BackendConfig& backend) {
   sim::WalkConfig walk;

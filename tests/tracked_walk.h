@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "planemap/backend/backend.h"
@@ -29,6 +30,20 @@ struct TrackedRun {
 // (`backend`'s settings). The tracker starts at T_run_world * (the true pose of
 // frame `first`): its world is the scene's moved by T_run_world (identity: the scene's, as
 // `planemap map` anchors a sequence with ground truth). PLANEMAP_TRACE=1 prints every frame.
+// The walks of the tracking and back-end tests: each goes about 3.5 m past the scene's other
+// furniture, turns, and approaches the box diagonally to about 0.65 m, so that two of its sides
+// and its top are seen whole (from a 52 cm high camera a 25-30 cm box's top is seen only within
+// about 1.3 m).
+struct SceneWalk {
+  const char* scene;
+  std::vector<double> waypoints;  // x y pairs [m]
+  const char* box;                // the object whose size and axis are checked
+};
+// default, storeroom, office.
+const std::vector<SceneWalk>& SceneWalks();
+// A test name from a walk: its scene file's stem ("default").
+std::string SceneStem(const SceneWalk& walk);
+
 TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first = 0,
                      std::size_t last = std::numeric_limits<std::size_t>::max(),
                      const Pose3& T_run_world = Pose3::Identity(), const BackendConfig& backend = BackendConfig{});

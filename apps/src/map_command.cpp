@@ -11,6 +11,7 @@
 #include "planemap/apps/commands.h"
 #include "planemap/backend/backend.h"
 #include "planemap/core/error.h"
+#include "planemap/core/statistics.h"
 #include "planemap/frontend/frontend.h"
 #include "planemap/frontend/map_merge.h"
 #include "planemap/frontend/tracker.h"
@@ -21,12 +22,6 @@ namespace fs = std::filesystem;
 
 namespace planemap {
 namespace {
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<size_t>(q * (v.size() - 1))];
-}
 
 // "std: dimensions 1.6 1.6 0.9 mm, centre ... mm, axes ... deg, grasp axis ... deg" (a dimension
 // only bounded from below: "bound").
