@@ -268,7 +268,9 @@ TEST(Cli, MapRefineWritesTheRefinedTrajectoryAndTheBoxesUncertainty) {
     ++boxes;
     EXPECT_GT(o.uncertainty.center_covariance.trace(), 0.0);
     for (int k = 0; k < 3; ++k) {
-      if (o.dimension_complete[k]) EXPECT_GT(o.uncertainty.dimension_std[k], 0.0) << "axis " << k;
+      if (o.dimension_complete[k]) {
+        EXPECT_GT(o.uncertainty.dimension_std[k], 0.0) << "axis " << k;
+      }
     }
   }
   EXPECT_GE(boxes, 1);

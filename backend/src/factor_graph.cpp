@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <set>
 #include <stdexcept>
 
 #include "planemap/factors/box_contact_factor.h"
@@ -98,8 +97,7 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
   for (size_t i = 0; i < frames.size(); ++i) {
     Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     for (const PlaneObservation& o : frames[i]->planes) scatter += o.plane.normal * o.plane.normal.transpose();
-    const double spread = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues()[0]));
-    weak[i] = frames[i]->degraded || spread < config.min_normal_spread;
+    weak[i] = frames[i]->degraded || NormalSingularValues(scatter)[0] < config.min_normal_spread;
   }
   const Eigen::Matrix<double, 6, 6> degraded =
       SqrtInformation(config.degraded_odometry_sigma, config.degraded_odometry_sigma_deg * kDegToRad);
@@ -170,12 +168,7 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
       if (z.dot(f.normal) < std::cos(config.face_max_angle_deg * kDegToRad) || std::abs(f.SignedDistance(bottom)) > config.contact_distance) continue;
       problem_.AddResidualBlock(BoxContactFactor::Create(config.contact_sigma, config.contact_sigma_deg * kDegToRad), nullptr,
                                 c.pose.data(), c.dimensions.data(), floor_block->second.data());
-      // The top and the floor measure the height.
-      if (c.held[2]) {
-        bool top = false;
-        for (const auto& [landmark, face] : face_of_landmark_) top = top || (&cuboids_[face.cuboid] == &c && face.axis == 2 && face.side > 0);
-        if (top) c.held[2] = false;
-      }
+      if (c.top_seen) c.held[2] = false;  // the top and the floor measure the height
     }
   }
   // Held dimensions: those nothing measures stay at their lower bound.
@@ -271,6 +264,7 @@ void FactorGraph::AddCuboids(const std::vector<const FrameObservations*>& frames
   // longest edge seen (the map's value when larger), a lower bound.
   for (size_t ci = 0; ci < cuboids_.size(); ++ci) {
     Cuboid& c = cuboids_[ci];
+    c.top_seen = seen[ci][2][1];
     for (int k = 0; k < 3; ++k) {
       c.held[k] = !measured[ci][k] && !(seen[ci][k][0] && seen[ci][k][1]);
       if (c.held[k]) c.dimensions[k] = std::max(c.dimensions[k], lower_bound[ci][k]);

@@ -51,6 +51,7 @@ class FactorGraph {
     std::array<double, 3> dimensions{};
     std::array<double, 3> edge_bias{};  // the error every view's edges share, per axis [m]
     std::array<bool, 3> held{};  // only bounded from below: held at the bound
+    bool top_seen = false;       // its top face (z, +1) was observed
   };
   void AddCuboids(const std::vector<const FrameObservations*>& frames, const std::vector<Pose3>& initial);
   ceres::LossFunction* Loss() const { return loss_; }

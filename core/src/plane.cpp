@@ -1,6 +1,9 @@
 #include "planemap/core/plane.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include <Eigen/Eigenvalues>
 
 #include "planemap/core/pose.h"
 
@@ -27,6 +30,12 @@ Plane TransformPlane(const Pose3& T_a_b, const Plane& plane_b) {
 
 double NormalAngle(const Plane& a, const Plane& b) {
   return std::atan2(a.normal.cross(b.normal).norm(), a.normal.dot(b.normal));
+}
+
+Eigen::Vector3d NormalSingularValues(const Eigen::Matrix3d& sum_of_outer_products) {
+  // The singular values of A are the square roots of the eigenvalues (ascending) of A^T A.
+  const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(sum_of_outer_products).eigenvalues();
+  return eigenvalues.cwiseMax(0.0).cwiseSqrt();
 }
 
 }  // namespace planemap

@@ -38,10 +38,8 @@ NormalSpread ComputeSpread(const std::vector<PlaneCorrespondence>& correspondenc
     source += c.source.normal * c.source.normal.transpose();
     target += c.target.normal * c.target.normal.transpose();
   }
-  // Singular values of A are the square roots of the eigenvalues (ascending) of A^T A.
-  const Eigen::Vector3d ls = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(source).eigenvalues();
-  const Eigen::Vector3d lt = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(target).eigenvalues();
-  return {std::sqrt(std::max(0.0, std::min(ls[0], lt[0]))), std::sqrt(std::max(0.0, std::min(ls[1], lt[1])))};
+  const Eigen::Vector3d s = NormalSingularValues(source), t = NormalSingularValues(target);
+  return {std::min(s[0], t[0]), std::min(s[1], t[1])};
 }
 
 std::string FirstInvalid(const std::vector<PlaneCorrespondence>& correspondences) {

@@ -118,8 +118,7 @@ std::optional<Eigen::Matrix3d> Tracker::SolveRotation(const std::vector<Candidat
     H += std::sqrt(static_cast<double>(observed[c.observation].inliers)) * observed[c.observation].camera.normal * n_world.transpose();
     spread += n_world * n_world.transpose();
   }
-  const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread).eigenvalues();
-  if (std::sqrt(std::max(0.0, eigenvalues[1])) < config_.ransac.min_normal_spread) return std::nullopt;
+  if (NormalSingularValues(spread)[1] < config_.ransac.min_normal_spread) return std::nullopt;
   return RotationFromCorrelation(H);
 }
 
@@ -207,8 +206,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
         const Eigen::Vector3d& n = map_.landmarks[candidates[k].landmark].plane.normal;
         normals += n * n.transpose();
       }
-      const double smallest = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(normals).eigenvalues()[0]));
-      if (smallest < config_.ransac.min_normal_spread) {
+      if (NormalSingularValues(normals)[0] < config_.ransac.min_normal_spread) {
         ransac.ok = false;
         ransac.reason = "the " + std::to_string(ransac.inliers.size()) + " planes that agree with the best pose do not fix 3 directions";
       }

@@ -36,4 +36,9 @@ Plane TransformPlane(const Pose3& T_a_b, const Plane& plane_b);
 // Angle between the normals of two planes [rad], in [0, pi].
 double NormalAngle(const Plane& a, const Plane& b);
 
+// Singular values (ascending) of the matrix whose rows are unit normals, from the sum of their
+// outer products n n^T: below a threshold the smallest says the normals do not span 3-D (they fix
+// fewer than 3 translation directions), the middle one too that they are all parallel.
+Eigen::Vector3d NormalSingularValues(const Eigen::Matrix3d& sum_of_outer_products);
+
 }  // namespace planemap

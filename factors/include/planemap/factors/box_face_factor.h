@@ -20,10 +20,9 @@ namespace planemap {
 class BoxFaceFactor {
  public:
   // axis: 0, 1, 2 (the box's x, y, z); side: +1 or -1.
-  // min_std, min_std_offset: as PlaneObservationFactor's.
-  BoxFaceFactor(int axis, int side, const Plane& observed, const Eigen::Matrix4d& covariance, double min_std,
-                double min_std_offset = -1.0)
-      : axis_(axis), side_(side > 0 ? 1.0 : -1.0), observation_(observed, covariance, min_std, min_std_offset) {}
+  // min_std: as PlaneObservationFactor's.
+  BoxFaceFactor(int axis, int side, const Plane& observed, const Eigen::Matrix4d& covariance, double min_std)
+      : axis_(axis), side_(side > 0 ? 1.0 : -1.0), observation_(observed, covariance, min_std) {}
 
   // camera: T_W_C, box: T_W_O, both [qx qy qz qw tx ty tz]; dimensions: [s_x s_y s_z] [m].
   template <typename T>
@@ -39,9 +38,9 @@ class BoxFaceFactor {
   }
 
   static ceres::CostFunction* Create(int axis, int side, const Plane& observed, const Eigen::Matrix4d& covariance,
-                                     double min_std, double min_std_offset = -1.0) {
+                                     double min_std) {
     return new ceres::AutoDiffCostFunction<BoxFaceFactor, 3, 7, 7, 3>(
-        new BoxFaceFactor(axis, side, observed, covariance, min_std, min_std_offset));
+        new BoxFaceFactor(axis, side, observed, covariance, min_std));
   }
 
  private:

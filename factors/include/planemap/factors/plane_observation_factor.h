@@ -46,10 +46,10 @@ inline Eigen::Matrix4d FlooredPlaneCovariance(const Plane& observed, const Eigen
 class PlaneObservationFactor {
  public:
   // `min_std` floors the residual's standard deviations (rad for the normal rows, m for the
-  // offset; `min_std_offset` for the offset row when given, >= 0): a plane fit from thousands of
-  // points can claim a precision the model cannot hold.
-  PlaneObservationFactor(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std,
-                         double min_std_offset = -1.0)
+  // offset): a plane fit from thousands of points can claim a precision the model cannot hold.
+  // (The back end floors the covariance about the plane's centroid instead,
+  // FlooredPlaneCovariance, and passes 0.)
+  PlaneObservationFactor(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std)
       : normal_(observed.normal.normalized()), offset_(observed.offset) {
     const Eigen::Vector3d a = normal_.unitOrthogonal();
     basis_.col(0) = a;
@@ -58,9 +58,7 @@ class PlaneObservationFactor {
     J.block<2, 3>(0, 0) = basis_.transpose();
     J(2, 3) = 1.0;
     Eigen::Matrix3d sigma = J * covariance * J.transpose();
-    const double floor_normal = std::max(min_std, 0.0);
-    const double floor_offset = min_std_offset >= 0.0 ? min_std_offset : floor_normal;
-    sigma += Eigen::Vector3d(floor_normal * floor_normal, floor_normal * floor_normal, floor_offset * floor_offset).asDiagonal();
+    sigma += std::max(min_std, 0.0) * std::max(min_std, 0.0) * Eigen::Matrix3d::Identity();
     // L = chol(Sigma^-1)^T, upper triangular: |L e|^2 = e^T Sigma^-1 e.
     sqrt_information_ = Eigen::LLT<Eigen::Matrix3d>(sigma.inverse()).matrixL().transpose();
   }
@@ -88,10 +86,9 @@ class PlaneObservationFactor {
     whitened = sqrt_information_.cast<T>() * e;
   }
 
-  static ceres::CostFunction* Create(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std,
-                                     double min_std_offset = -1.0) {
+  static ceres::CostFunction* Create(const Plane& observed, const Eigen::Matrix4d& covariance, double min_std) {
     return new ceres::AutoDiffCostFunction<PlaneObservationFactor, 3, 7, 4>(
-        new PlaneObservationFactor(observed, covariance, min_std, min_std_offset));
+        new PlaneObservationFactor(observed, covariance, min_std));
   }
 
   const Eigen::Matrix3d& sqrt_information() const { return sqrt_information_; }
