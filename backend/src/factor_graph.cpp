@@ -113,10 +113,24 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
       problem_.AddResidualBlock(PosePriorFactor::Create(frames[i]->T_world_camera, tracking), nullptr, poses_[i].data());
     }
   }
+  // One floor: the robot walks on one plane, so a horizontal landmark near the floor that frames
+  // took for the floor is a duplicate of it (tracking placed it off by a pose error), and a frame
+  // that sees such a duplicate but not the floor saw the floor.
+  const int floor_id = map.Floor();
+  if (floor_id >= 0 && config.floor_merge_distance > 0.0) {
+    const Plane& f = map.landmarks[floor_id].plane;
+    for (const PlaneLandmark& l : map.landmarks) {
+      if (l.id == floor_id || l.floor_votes == 0) continue;
+      if (l.plane.normal.dot(f.normal) < std::cos(config.floor_merge_angle_deg * kDegToRad)) continue;
+      if (std::abs(l.plane.offset - f.offset) > config.floor_merge_distance) continue;
+      floor_duplicates_.insert(l.id);
+    }
+  }
   if (spec.cuboids) AddCuboids(frames, initial);
 
   // Plane observations: on a cuboid's face, or on a landmark.
   for (size_t i = 0; i < frames.size(); ++i) {
+    const PlaneObservation* frame_floor = FloorSeenAsDuplicate(*frames[i], floor_id);
     for (const PlaneObservation& o : frames[i]->planes) {
       if (o.landmark < 0 || o.landmark >= static_cast<int>(map.landmarks.size())) {
         throw std::invalid_argument("frame " + std::to_string(frames[i]->frame) + " observes plane " + std::to_string(o.landmark) +
@@ -126,23 +140,24 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
       const double normal_std = std::sqrt(std::max(0.0, covariance.topLeftCorner<3, 3>().trace() / 2.0));
       const Eigen::Vector4d at_centroid(o.centroid.x(), o.centroid.y(), o.centroid.z(), 1.0);
       const double offset_std = std::sqrt(std::max(0.0, at_centroid.dot(covariance * at_centroid)));
-      const auto face = face_of_landmark_.find(o.landmark);
+      const int landmark = &o == frame_floor ? floor_id : o.landmark;
+      const auto face = face_of_landmark_.find(landmark);
       if (face != face_of_landmark_.end()) {
         Cuboid& c = cuboids_[face->second.cuboid];
         observations_.push_back({problem_.AddResidualBlock(
                                      BoxFaceFactor::Create(face->second.axis, face->second.side, o.plane, covariance, 0.0), Loss(),
                                      poses_[i].data(), c.pose.data(), c.dimensions.data()),
-                                 i, o.landmark, &o, normal_std, offset_std});
+                                 i, landmark, &o, normal_std, offset_std});
         continue;
       }
-      auto [it, added] = landmarks_.try_emplace(o.landmark, ToBlock(map.landmarks[o.landmark].plane));
+      auto [it, added] = landmarks_.try_emplace(landmark, ToBlock(map.landmarks[landmark].plane));
       if (added) {
         problem_.AddParameterBlock(it->second.data(), 4, plane_manifold_);
         if (!spec.free_landmarks) problem_.SetParameterBlockConstant(it->second.data());
       }
       observations_.push_back(
           {problem_.AddResidualBlock(PlaneObservationFactor::Create(o.plane, covariance, 0.0), Loss(), poses_[i].data(), it->second.data()),
-           i, o.landmark, &o, normal_std, offset_std});
+           i, landmark, &o, normal_std, offset_std});
     }
   }
   // Optional structure: landmarks the map's edges join at near right angles are perpendicular.
@@ -342,6 +357,15 @@ SolveReport FactorGraph::Solve() {
   r.brief = summary.BriefReport();
   r.full = summary.FullReport();
   return r;
+}
+
+const PlaneObservation* FactorGraph::FloorSeenAsDuplicate(const FrameObservations& frame, int floor) const {
+  const PlaneObservation* largest = nullptr;
+  for (const PlaneObservation& o : frame.planes) {
+    if (o.landmark == floor) return nullptr;  // it saw the floor itself: a duplicate is another patch
+    if (floor_duplicates_.count(o.landmark) && (!largest || o.inliers > largest->inliers)) largest = &o;
+  }
+  return largest;
 }
 
 Plane FactorGraph::WorldPlane(int landmark) const {

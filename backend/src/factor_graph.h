@@ -5,6 +5,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <set>
 #include <vector>
 
 #include <ceres/ceres.h>
@@ -80,6 +81,10 @@ class FactorGraph {
     double normal_std = 0.0;  // the observation's own tilt [rad] and offset at its centroid [m]
     double offset_std = 0.0;  // standard deviations (floored covariance)
   };
+  // The observation of a frame that saw a duplicate of the floor but not the floor: the largest
+  // such; null if none.
+  const PlaneObservation* FloorSeenAsDuplicate(const FrameObservations& frame, int floor) const;
+  std::set<int> floor_duplicates_;  // landmarks near the floor that frames took for it
   // The world plane the graph now holds for a landmark (its block or its box's face).
   Plane WorldPlane(int landmark) const;
   std::vector<Observed> observations_;

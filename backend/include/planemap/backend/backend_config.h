@@ -65,6 +65,10 @@ struct BackendConfig {
   double outlier_max_angle_deg = 1.0;  // [deg]
   double outlier_max_distance = 0.01;  // [m]
   double outlier_max_sigma = 3.0;      // ... and by more than this many of its own standard deviations
+  // One floor: a landmark within these of the map's floor that frames took for the floor is
+  // observed as the floor (0 distance: off).
+  double floor_merge_distance = 0.10;   // [m]
+  double floor_merge_angle_deg = 3.0;   // [deg]
   // Solver: sparse_schur or sparse_normal_cholesky (SuiteSparse underneath).
   std::string linear_solver = "sparse_normal_cholesky";
   int max_iterations = 100;
@@ -111,6 +115,8 @@ struct BackendConfig {
     v("outlier_max_angle_deg", outlier_max_angle_deg, Check::kPositive);
     v("outlier_max_distance", outlier_max_distance, Check::kPositive);
     v("outlier_max_sigma", outlier_max_sigma, Check::kPositive);
+    v("floor_merge_distance", floor_merge_distance, Check::kNonNegative);
+    v("floor_merge_angle_deg", floor_merge_angle_deg, Check::kPositive);
     v("linear_solver", linear_solver);
     v("max_iterations", max_iterations, Check::kPositive);
     v("function_tolerance", function_tolerance, Check::kPositive);
