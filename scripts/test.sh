@@ -11,8 +11,9 @@ if [ "${1:-}" = "--sanitize" ]; then
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   # The sanitized build runs every test but the longest rendered walks (3-4 min each there), whose
-  # code paths the default walk, the single-wall walk and the rendered merge already take.
-  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)'
+  # code paths the default walk, the single-wall walk and the rendered merge already take, and all
+  # but one closed-loop approach run (the dropped-frames run takes the whole loop's paths).
+  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)|Approach\.(FeedbackBeats|AnObjectMoved)'
 else
   build_dir=build
   bash scripts/build.sh "$build_dir"

@@ -87,6 +87,30 @@ int main(int argc, char** argv) {
   nees_cmd->add_option("--threads", nees.threads, "Runs in parallel (0: every core)")->capture_default_str();
   nees_cmd->add_option("--csv", nees.csv, "Write every run's errors, standard deviations and NEES here");
 
+  planemap::ApproachCommandOptions approach;
+  CLI::App* approach_cmd = app.add_subcommand(
+      "approach", "The humanoid walks to the pre-grasp pose in front of the box, closed loop: rendered frames, the product's "
+                  "perception and estimation, the paper's scenarios (1 open loop, 2 path feedback, 3 then object approach)");
+  approach_cmd->add_option("--scene", approach.run.scene, "Scene (YAML)")->capture_default_str();
+  approach_cmd->add_option("--scenario", approach.run.scenario, "1, 2 or 3")->capture_default_str();
+  approach_cmd->add_option("--seed", approach.run.seed, "Walking and sensor noise seed (with --table: the first)")->capture_default_str();
+  approach_cmd->add_option("--camera", approach.run.camera, "Camera intrinsics (YAML)")->capture_default_str();
+  approach_cmd->add_option("--config", approach.run.config, "Settings (YAML): humanoid, planner, grasp, mission")->capture_default_str();
+  approach_cmd->add_option("--patterns", approach.run.patterns, "Object graph patterns (YAML)")->capture_default_str();
+  approach_cmd->add_option("--target", approach.run.target, "Class of the object to approach")->capture_default_str();
+  approach_cmd->add_option("--start", approach.run.start, "Start pose: x y [m] heading [deg]")->expected(3);
+  approach_cmd->add_option("--rate", approach.run.rate, "Camera frame rate [Hz]")->capture_default_str();
+  approach_cmd->add_option("--move-object-at", approach.run.move_object_at, "Move the target in the scene at this time [s]");
+  approach_cmd->add_option("--move-by", approach.run.move_object_by, "... by dx dy [m] dyaw [deg]")->expected(3);
+  approach_cmd->add_option("--drop-at", approach.run.drop_at, "Lose the camera frames from this time [s] ...");
+  approach_cmd->add_option("--drop-for", approach.run.drop_duration, "... for this long [s]")->capture_default_str();
+  approach_cmd->add_option("--max-time", approach.run.max_time, "End the run after this long [s]")->capture_default_str();
+  approach_cmd->add_flag("--table", approach.table, "All three scenarios over --seeds seeds: the paper's Table 1");
+  approach_cmd->add_option("--seeds", approach.seeds, "Seeds per scenario with --table")->capture_default_str();
+  approach_cmd->add_option("--threads", approach.threads, "Runs in parallel with --table (0: every core)")->capture_default_str();
+  approach_cmd->add_option("--json", approach.json, "Write the table as JSON here");
+  approach_cmd->add_option("--plots", approach.plots, "Write Fig. 8-like SVG plots with this path prefix");
+
   planemap::EvalOptions eval;
   CLI::App* eval_cmd = app.add_subcommand(
       "eval", "Trajectory error (ATE, RPE) against ground truth; with --map and --scene, the map's object errors");
@@ -122,6 +146,7 @@ int main(int argc, char** argv) {
     if (map_cmd->parsed()) return planemap::RunMap(map);
     if (nees_cmd->parsed()) return planemap::RunNees(nees);
     if (merge_cmd->parsed()) return planemap::RunMerge(merge);
+    if (approach_cmd->parsed()) return planemap::RunApproach(approach);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());
     return 1;

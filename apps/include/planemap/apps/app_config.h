@@ -9,6 +9,10 @@
 #include "planemap/frontend/map_merge.h"
 #include "planemap/frontend/tracker.h"
 #include "planemap/io/tum_sequence.h"
+#include "planemap/nav/grasp.h"
+#include "planemap/nav/mission.h"
+#include "planemap/nav/planner.h"
+#include "planemap/nav/simulated_humanoid.h"
 #include "planemap/sim/virtual_camera.h"
 
 namespace planemap {
@@ -21,6 +25,10 @@ struct AppConfig {
   MapMergeConfig merge;
   BackendConfig backend;
   EvalConfig eval;
+  nav::HumanoidConfig humanoid;  // the simulated robot of `planemap approach`
+  nav::PlannerConfig planner;
+  nav::GraspConfig grasp;
+  nav::MissionConfig mission;
 
   template <class V>
   void VisitFields(V&& v) {
@@ -31,6 +39,10 @@ struct AppConfig {
     v("merge", merge);
     v("backend", backend);
     v("eval", eval);
+    v("humanoid", humanoid);
+    v("planner", planner);
+    v("grasp", grasp);
+    v("mission", mission);
   }
 };
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "planemap/apps/approach.h"
 #include "planemap/apps/consistency.h"
 
 namespace planemap {
@@ -68,6 +69,16 @@ struct MergeOptions {
   std::string out = "out/merged";  // map.json, map.ply
 };
 
+struct ApproachCommandOptions {
+  ApproachOptions run;
+  bool table = false;   // all three scenarios over `seeds` seeds: the paper's Table 1
+  int seeds = 20;
+  int threads = 0;      // runs in parallel (0: every core)
+  std::string json;     // the table as JSON; empty: none
+  std::string plots;    // Fig. 8 as SVG files with this path prefix; empty: none
+};
+
+int RunApproach(const ApproachCommandOptions& options);
 int RunMerge(const MergeOptions& options);
 int RunRender(const RenderOptions& options);
 int RunMap(const MapOptions& options);

@@ -1,0 +1,68 @@
+#pragma once
+// The live approach (paper, section 5): a simulated humanoid in a rendered scene walks to the
+// pre-grasp pose in front of the box, closed loop. Every camera frame is rendered from the
+// robot's true head pose, goes through the frontend, the tracker and the sliding window, and
+// the mission (nav/) reads the smoothed base pose and the map's estimate of the box, and
+// commands the next walk. Ground truth (the robot's true pose, the scene's box) only scores it.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "planemap/nav/mission.h"
+#include "planemap/nav/pose2.h"
+
+namespace planemap {
+
+struct ApproachOptions {
+  std::string scene = "configs/scenes/default.yaml";
+  std::string camera = "configs/cameras/xtion_nao.yaml";
+  std::string config = "configs/default.yaml";
+  std::string patterns = "configs/patterns.yaml";
+  int scenario = 3;                           // 1 open loop, 2 path feedback, 3 object approach
+  int seed = 1;                               // walking noise and sensor noise
+  std::string target = "box";                 // the class of the object to approach
+  std::vector<double> start{0.0, 0.0, 0.0};   // the robot's start: x y [m] heading [deg]
+  double rate = 30.0;                         // camera frames per second [Hz]
+  double look_time = 0.5;                     // standing at the start before planning [s] ...
+  double look_timeout = 3.0;                  // ... and at most this long when no target is mapped [s]
+  double max_time = 240.0;                    // the run ends here whatever happens [s]
+  double body_radius = 0.08;                  // the robot's true footprint, for collisions [m]
+  double move_object_at = -1.0;               // move the target in the scene at this time [s] (< 0: never)
+  std::vector<double> move_object_by{0.10, 0.05, 10.0};  // by dx dy [m] dyaw [deg] in the world
+  double drop_at = -1.0;                      // frames are lost from this time [s] (< 0: never) ...
+  double drop_duration = 1.0;                 // ... for this long [s]
+};
+
+// One control point (stop) of a run.
+struct ApproachStop {
+  nav::ControlPointRecord record;  // as the mission saw it (estimate, reference, its distance)
+  nav::Pose2 truth;                // where the robot really was
+  double truth_to_path = 0.0;      // the true position's distance to the reference path [m]
+};
+
+struct ApproachRun {
+  int scenario = 0, seed = 0;
+  bool planned = false;
+  nav::MissionStatus status;
+  std::string target;                   // the scene object approached
+  std::vector<ApproachStop> stops;
+  double average_error = 0.0;           // mean of truth_to_path over the stops [m]
+  double position_error = 0.0;          // final true position to the true pre-grasp position [m]
+  double heading_error = 0.0;           // final true heading to the true pre-grasp heading [rad]
+  bool grasp_ok = false;                // the grasp check at the final true pose on the true box
+  std::string grasp_reason;
+  bool collided = false;                // the true footprint touched an object
+  std::string collision;                // which, and when
+  double duration = 0.0;                // simulated time [s]
+  int frames = 0, lost_frames = 0;
+  std::vector<double> perception_ms, estimation_ms, control_ms, render_ms;  // per processed frame
+  // For plots: reference path, true and estimated base positions per frame, the true target.
+  std::vector<nav::Pose2> reference, truth_path, estimate_path;
+  nav::Pose2 pregrasp_true, pregrasp_planned;
+};
+
+// One closed-loop run. Throws InputError for unreadable inputs or bad options.
+ApproachRun RunApproachOnce(const ApproachOptions& options);
+
+}  // namespace planemap

@@ -1,0 +1,244 @@
+// The closed loop of `planemap approach`: render, perceive, estimate, control, walk.
+#include "planemap/apps/approach.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+
+#include <yaml-cpp/yaml.h>
+
+#include "planemap/apps/app_config.h"
+#include "planemap/backend/backend.h"
+#include "planemap/core/error.h"
+#include "planemap/frontend/frontend.h"
+#include "planemap/frontend/tracker.h"
+#include "planemap/nav/simulated_humanoid.h"
+#include "planemap/sim/scene.h"
+#include "planemap/sim/virtual_camera.h"
+
+namespace planemap {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kDegToRad = M_PI / 180.0;
+
+double Ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+
+// The scene with one object moved by (dx, dy) [m] and turned by dyaw [deg]: the scene file
+// edited and loaded again, so the moved object's surfaces are built as any scene's are.
+sim::Scene MovedScene(const std::string& file, const std::string& object, const std::vector<double>& by, int seed) {
+  YAML::Node root = YAML::LoadFile(file);
+  bool found = false;
+  for (YAML::Node o : root["objects"]) {
+    if (o["name"].as<std::string>() != object) continue;
+    YAML::Node position = o["position"], rpy = o["rpy_deg"];
+    position[0] = position[0].as<double>() + by[0];
+    position[1] = position[1].as<double>() + by[1];
+    if (rpy) rpy[2] = rpy[2].as<double>() + by[2];
+    found = true;
+  }
+  if (!found) ThrowInputError(file, 0, "no object named '" + object + "' to move");
+  const std::filesystem::path moved =
+      std::filesystem::temp_directory_path() / ("planemap_moved_scene_" + std::to_string(seed) + "_" + object + ".yaml");
+  {
+    std::ofstream out(moved);
+    out << root;
+  }
+  sim::Scene scene = sim::LoadScene(moved.string());
+  std::filesystem::remove(moved);
+  return scene;
+}
+
+// The scene object as the map would hold it, grasped from the true face nearest the estimate's
+// grasp axis (scoring asks: how far is the robot from where it should stand for that face).
+MapObject TrueObject(const sim::SceneObject& o, const Eigen::Vector3d& estimated_grasp_axis) {
+  MapObject m;
+  m.label = o.type;
+  m.center = o.T_world_object.translation();
+  m.axes = o.T_world_object.linear();
+  m.dimensions = o.dimensions;
+  double best = -2.0;
+  for (int k = 0; k < 2; ++k) {
+    for (double side : {1.0, -1.0}) {
+      const Eigen::Vector3d axis = side * m.axes.col(k);
+      if (axis.dot(estimated_grasp_axis) > best) {
+        best = axis.dot(estimated_grasp_axis);
+        m.grasp_axis = axis;
+      }
+    }
+  }
+  m.has_grasp_axis = true;
+  return m;
+}
+
+// The mapped object of the target class seen most often; -1 if none.
+int FindTarget(const PlaneMap& map, const std::string& label) {
+  int best = -1;
+  for (const MapObject& o : map.objects) {
+    if (o.label == label && (best < 0 || o.observations > map.objects[best].observations)) best = o.id;
+  }
+  return best;
+}
+
+// The scene object whose centre is nearest (on the floor) to a point.
+const sim::SceneObject& NearestObject(const sim::Scene& scene, const Eigen::Vector3d& p) {
+  const sim::SceneObject* best = &scene.objects.front();
+  for (const sim::SceneObject& o : scene.objects) {
+    if ((o.T_world_object.translation() - p).head<2>().norm() < (best->T_world_object.translation() - p).head<2>().norm()) best = &o;
+  }
+  return *best;
+}
+
+}  // namespace
+
+ApproachRun RunApproachOnce(const ApproachOptions& options) {
+  if (options.scenario < 1 || options.scenario > 3) throw InputError("--scenario must be 1, 2 or 3");
+  if (options.start.size() != 3) throw InputError("--start needs x y heading_deg");
+  if (options.move_object_by.size() != 3) throw InputError("--move-by needs dx dy dyaw_deg");
+  if (options.rate <= 0.0) throw InputError("--rate must be positive");
+  const std::string scene_file = ResolveConfigPath(options.scene);
+  const sim::Scene scene = sim::LoadScene(scene_file);
+  if (scene.objects.empty()) ThrowInputError(scene_file, 0, "the scene has no objects to approach");
+  const CameraIntrinsics camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
+  AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
+  config.render.seed = options.seed;
+  const Frontend frontend(camera, config.frontend, LoadPatterns(ResolveConfigPath(options.patterns)));
+  const sim::VirtualCamera sensor(scene, camera, config.render);
+  std::unique_ptr<sim::VirtualCamera> moved_sensor;  // built when the target is known
+
+  const nav::Pose2 start{options.start[0], options.start[1], options.start[2] * kDegToRad};
+  nav::SimulatedHumanoid robot(config.humanoid, start, static_cast<std::uint64_t>(options.seed));
+  // The robot knows where it starts (the paper: from the first frames; here the world is the
+  // scene's, as `planemap map` anchors a sequence with ground truth).
+  Tracker tracker(config.tracking, robot.CameraPose());
+  SlidingWindow window(config.backend);
+  nav::Mission mission(static_cast<nav::Scenario>(options.scenario), config.mission, config.planner, config.grasp, &robot);
+
+  ApproachRun run;
+  run.scenario = options.scenario;
+  run.seed = options.seed;
+  const sim::SceneObject* target_truth = nullptr;
+  sim::Scene moved_scene;
+  bool moved = false;
+  int target = -1;
+  const double dt = 1.0 / options.rate;
+  for (int k = 0;; ++k) {
+    const double t = k * dt;
+    if (t > options.max_time) {
+      run.status.outcome = nav::MissionStatus::Outcome::kStopped;
+      run.status.reason = "out of time after " + std::to_string(options.max_time) + " s";
+      break;
+    }
+    if (!moved && target_truth && options.move_object_at >= 0.0 && t >= options.move_object_at) {
+      moved_scene = MovedScene(scene_file, target_truth->name, options.move_object_by, options.seed);
+      moved_sensor = std::make_unique<sim::VirtualCamera>(moved_scene, camera, config.render);
+      target_truth = &moved_scene.object(target_truth->name);
+      moved = true;
+    }
+    const bool dropped = options.drop_at >= 0.0 && t >= options.drop_at && t < options.drop_at + options.drop_duration;
+    std::optional<nav::Pose2> estimate;
+    ++run.frames;
+    if (dropped) {
+      ++run.lost_frames;
+    } else {
+      const auto t0 = Clock::now();
+      const sim::VirtualCamera& cam = moved ? *moved_sensor : sensor;
+      sim::RenderedFrame rendered = cam.Render(robot.CameraPose(), cam.FrameSeed(k));
+      RgbdFrame frame;
+      frame.depth = std::move(rendered.depth);
+      frame.color = std::move(rendered.color);
+      frame.stamp = t;
+      const auto t1 = Clock::now();
+      const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
+      const FrameModel model = frontend.Process(*cloud);
+      const auto t2 = Clock::now();
+      const TrackResult tracked = tracker.Track(model, *cloud, t);
+      const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
+      const auto t3 = Clock::now();
+      run.render_ms.push_back(Ms(t0, t1));
+      run.perception_ms.push_back(Ms(t1, t2));
+      run.estimation_ms.push_back(Ms(t2, t3));
+      if (tracked.status == TrackStatus::kLost) {
+        ++run.lost_frames;
+      } else {
+        estimate = nav::BaseFromCamera(T_smoothed, config.humanoid.camera_forward_offset);
+        run.estimate_path.push_back(*estimate);
+      }
+    }
+    run.truth_path.push_back(robot.TruePose());
+
+    // Plan once the robot has looked around and mapped its target.
+    if (!run.planned && estimate && t >= options.look_time) {
+      target = FindTarget(tracker.map(), options.target);
+      if (target >= 0) {
+        const nav::PlanResult plan = mission.Plan(tracker.map(), target, *estimate);
+        if (!plan.ok) {
+          run.status = {nav::MissionStatus::Outcome::kStopped, "no plan: " + plan.reason};
+          break;
+        }
+        run.planned = true;
+        target_truth = &NearestObject(scene, tracker.map().objects[target].center);
+        run.target = target_truth->name;
+        run.reference = mission.ReferencePath();
+        run.pregrasp_planned = mission.PreGraspTarget();
+      } else if (t >= options.look_timeout) {
+        run.status = {nav::MissionStatus::Outcome::kStopped, "no " + options.target + " in the map after " +
+                                                                 std::to_string(options.look_timeout) + " s of looking"};
+        break;
+      }
+    }
+    if (run.planned) {
+      const size_t before = mission.Records().size();
+      const auto t4 = Clock::now();
+      const MapObject* object = target >= 0 && target < static_cast<int>(tracker.map().objects.size()) ? &tracker.map().objects[target] : nullptr;
+      mission.Update(t, estimate, object);
+      run.control_ms.push_back(Ms(t4, Clock::now()));
+      for (size_t i = before; i < mission.Records().size(); ++i) {
+        const nav::Pose2 truth = robot.TruePose();
+        run.stops.push_back({mission.Records()[i], truth, nav::DistanceToPath(mission.ReferencePath(), truth.Position())});
+      }
+      if (mission.Done()) {
+        run.status = mission.Status();
+        break;
+      }
+    }
+    // Collisions: the robot's true footprint against every true object.
+    const sim::Scene& now = moved ? moved_scene : scene;
+    for (const sim::SceneObject& o : now.objects) {
+      const double gap = nav::FootprintOf(TrueObject(o, Eigen::Vector3d::UnitX())).Distance(robot.TruePose().Position());
+      if (!run.collided && gap < options.body_radius) {
+        run.collided = true;
+        char text[128];
+        std::snprintf(text, sizeof(text), "%s at %.1f s", o.name.c_str(), t);
+        run.collision = text;
+      }
+    }
+    robot.Advance(dt);
+  }
+  run.duration = robot.Time();
+  run.reference = run.planned ? mission.ReferencePath() : run.reference;
+  if (!run.planned || !target_truth) return run;
+
+  // Scores against ground truth: where the robot should stand for the face it chose.
+  const MapObject& estimated = tracker.map().objects[target];
+  const Eigen::Vector2d g = nav::GraspFaces(estimated, start.Position() - estimated.center.head<2>()).axis;
+  const Eigen::Vector3d grasp_axis(g.x(), g.y(), 0.0);
+  const MapObject truth_object = TrueObject(*target_truth, grasp_axis);
+  const nav::Pose2 final_pose = robot.TruePose();
+  run.pregrasp_true = nav::PreGraspPose(truth_object, config.grasp, (final_pose.Position() - truth_object.center.head<2>()));
+  run.position_error = (final_pose.Position() - run.pregrasp_true.Position()).norm();
+  run.heading_error = std::abs(nav::WrapAngle(final_pose.theta - run.pregrasp_true.theta));
+  const nav::GraspCheck check = nav::CheckGrasp(truth_object, final_pose, config.grasp);
+  run.grasp_ok = check.ok;
+  run.grasp_reason = check.reason;
+  double sum = 0.0;
+  for (const ApproachStop& s : run.stops) sum += s.truth_to_path;
+  run.average_error = run.stops.empty() ? 0.0 : sum / run.stops.size();
+  return run;
+}
+
+}  // namespace planemap

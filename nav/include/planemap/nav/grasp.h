@@ -1,0 +1,75 @@
+#pragma once
+// The pre-grasp pose and the grasp check (paper section 4.1-4.2: the object's centre and the axis
+// of the side chosen for grasping drive the approach). The robot stands facing the grasp side,
+// the hands close on the two vertical faces to its left and right, at the object's centre height.
+//
+// Arm model: a small humanoid (Nao-like) crouched in front of an object on the floor, its torso
+// leaning forward; each hand reaches a shell around its shoulder. World z = 0 is the floor.
+#include <Eigen/Core>
+#include <string>
+
+#include "planemap/core/config.h"
+#include "planemap/core/plane_map.h"
+#include "planemap/nav/pose2.h"
+
+namespace planemap::nav {
+
+struct GraspConfig {
+  double standoff = 0.22;          // base origin to the line through the grasp points; arm's reach [m]
+  double body_clearance = 0.09;    // base origin to the object's near face, at least: toes + gap [m]
+  double shoulder_forward = 0.05;  // shoulder joints ahead of the base origin (leaning torso) [m]
+  double shoulder_lateral = 0.10;  // each shoulder to the side of the base origin [m]
+  double shoulder_height = 0.26;   // shoulders above the floor, crouched [m]
+  double reach_min = 0.19;         // a hand's grasp point from its shoulder, nearest [m]
+  double reach_max = 0.265;        // ... farthest [m]
+  double hand_span_min = 0.10;     // narrowest object across the grasp points [m]
+  double hand_span_max = 0.40;     // widest [m]
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("standoff", standoff, Check::kPositive);
+    v("body_clearance", body_clearance, Check::kNonNegative);
+    v("shoulder_forward", shoulder_forward, Check::kAny);
+    v("shoulder_lateral", shoulder_lateral, Check::kNonNegative);
+    v("shoulder_height", shoulder_height, Check::kPositive);
+    v("reach_min", reach_min, Check::kNonNegative);
+    v("reach_max", reach_max, Check::kPositive);
+    v("hand_span_min", hand_span_min, Check::kNonNegative);
+    v("hand_span_max", hand_span_max, Check::kPositive);
+  }
+};
+
+// How an object is grasped: from which side, and where the hands close.
+struct GraspGeometry {
+  Eigen::Vector2d axis = Eigen::Vector2d::UnitX();  // g: horizontal, unit, out of the grasp face (world)
+  double depth = 0.0;                               // object's extent along g [m]
+  double width = 0.0;                               // across g, between the grasp points [m]
+  Eigen::Vector3d left = Eigen::Vector3d::Zero();   // grasp points (world), left and right as
+  Eigen::Vector3d right = Eigen::Vector3d::Zero();  // seen by a robot facing -g [m]
+};
+
+// The object's grasp axis made horizontal, or without one (or a vertical one) the horizontal box
+// axis, of +-x and +-y, closest to `toward_robot` (world xy, from the object toward the robot).
+GraspGeometry GraspFaces(const MapObject& object, const Eigen::Vector2d& toward_robot);
+
+// Where the robot stands to grasp: centre_xy + g * max(standoff, depth / 2 + body_clearance),
+// facing -g (the camera's main axis along the grasp axis).
+Pose2 PreGraspPose(const MapObject& object, const GraspConfig& config, const Eigen::Vector2d& toward_robot);
+
+struct GraspCheck {
+  bool ok = false;
+  std::string reason;                                     // the first check that failed
+  double width = 0.0;                                     // across the grasp points [m]
+  Eigen::Vector3d left_point = Eigen::Vector3d::Zero();   // base frame (x forward, y left, z up) [m]
+  Eigen::Vector3d right_point = Eigen::Vector3d::Zero();  // [m]
+  double left_distance = 0.0;                             // each point to its shoulder [m]
+  double right_distance = 0.0;                            // [m]
+};
+
+// Whether the robot at `robot` can grasp the object: the width within the hand span, and each
+// grasp point ahead of the shoulders and inside its arm's reach shell [reach_min, reach_max]
+// around its shoulder. Defaults: the default scene's box (grasped across its 0.35 m) passes with
+// the robot up to 3.5 cm and 5 deg off its pre-grasp pose, and fails from 10 cm off.
+GraspCheck CheckGrasp(const MapObject& object, const Pose2& robot, const GraspConfig& config);
+
+}  // namespace planemap::nav

@@ -1,0 +1,117 @@
+#include "planemap/nav/grasp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "planemap/nav/planner.h"
+
+namespace planemap::nav {
+namespace {
+
+// A grasp axis steeper than this (a top face's normal) names no side to stand at: |horizontal part|.
+constexpr double kMinHorizontal = M_SQRT1_2;
+
+// Of the footprint's side directions +-x, +-y, the one closest to `direction`.
+Eigen::Vector2d ClosestSide(const Footprint& footprint, const Eigen::Vector2d& direction) {
+  const Eigen::Vector2d d = direction.norm() > 1e-9 ? direction : Eigen::Vector2d(footprint.axes.col(0));
+  Eigen::Vector2d best = footprint.axes.col(0);
+  double best_dot = -2.0;
+  for (int s = 0; s < 2; ++s) {
+    for (double sign : {1.0, -1.0}) {
+      const Eigen::Vector2d side = sign * footprint.axes.col(s);
+      if (side.dot(d) > best_dot + 1e-12) {
+        best_dot = side.dot(d);
+        best = side;
+      }
+    }
+  }
+  return best;
+}
+
+Eigen::Vector3d InBase(const Pose2& robot, const Eigen::Vector3d& world) {
+  const Pose2 local = Between(robot, Pose2{world.x(), world.y(), 0.0});
+  return {local.x, local.y, world.z()};
+}
+
+std::string Centimetres(const char* format, double a, double b) {
+  char text[160];
+  std::snprintf(text, sizeof(text), format, 100.0 * a, 100.0 * b);
+  return text;
+}
+
+// The reason a grasp point (base frame) at `distance` from its shoulder is out of reach, or "".
+// Arms reach forward: a point behind the shoulders is out of reach whatever its distance.
+std::string ReachProblem(const char* side, const Eigen::Vector3d& point, double distance,
+                         const GraspConfig& config) {
+  const std::string prefix = std::string(side) + " grasp point is ";
+  if (point.x() <= config.shoulder_forward)
+    return prefix + Centimetres("%.1f cm ahead of the base, not ahead of the shoulders (%.1f cm)", point.x(),
+                                config.shoulder_forward);
+  if (distance < config.reach_min)
+    return prefix + Centimetres("%.1f cm from its shoulder, nearer than reach_min %.1f cm", distance,
+                                config.reach_min);
+  if (distance > config.reach_max)
+    return prefix +
+           Centimetres("%.1f cm from its shoulder, beyond reach_max %.1f cm", distance, config.reach_max);
+  return "";
+}
+
+}  // namespace
+
+GraspGeometry GraspFaces(const MapObject& object, const Eigen::Vector2d& toward_robot) {
+  const Footprint footprint = FootprintOf(object);
+  const Eigen::Vector2d horizontal = object.grasp_axis.head<2>();
+  GraspGeometry geometry;
+  geometry.axis = object.has_grasp_axis && horizontal.norm() >= kMinHorizontal * object.grasp_axis.norm()
+                      ? Eigen::Vector2d(horizontal.normalized())
+                      : ClosestSide(footprint, toward_robot);
+  const int along =
+      std::abs(geometry.axis.dot(footprint.axes.col(0))) >= std::abs(geometry.axis.dot(footprint.axes.col(1)))
+          ? 0
+          : 1;
+  geometry.depth = 2.0 * footprint.half_size[along];
+  geometry.width = 2.0 * footprint.half_size[1 - along];
+  // A robot facing -g has its left along g turned by -90 deg.
+  const Eigen::Vector2d left(geometry.axis.y(), -geometry.axis.x());
+  const Eigen::Vector2d centre = object.center.head<2>();
+  const Eigen::Vector2d l = centre + 0.5 * geometry.width * left, r = centre - 0.5 * geometry.width * left;
+  geometry.left = {l.x(), l.y(), object.center.z()};
+  geometry.right = {r.x(), r.y(), object.center.z()};
+  return geometry;
+}
+
+Pose2 PreGraspPose(const MapObject& object, const GraspConfig& config, const Eigen::Vector2d& toward_robot) {
+  const GraspGeometry geometry = GraspFaces(object, toward_robot);
+  const double standoff = std::max(config.standoff, 0.5 * geometry.depth + config.body_clearance);
+  const Eigen::Vector2d p = object.center.head<2>() + standoff * geometry.axis;
+  return {p.x(), p.y(), std::atan2(-geometry.axis.y(), -geometry.axis.x())};
+}
+
+GraspCheck CheckGrasp(const MapObject& object, const Pose2& robot, const GraspConfig& config) {
+  const GraspGeometry geometry = GraspFaces(object, robot.Position() - object.center.head<2>());
+  GraspCheck check;
+  check.width = geometry.width;
+  check.left_point = InBase(robot, geometry.left);
+  check.right_point = InBase(robot, geometry.right);
+  if (check.left_point.y() < check.right_point.y()) std::swap(check.left_point, check.right_point);
+  const Eigen::Vector3d shoulder(config.shoulder_forward, config.shoulder_lateral, config.shoulder_height);
+  check.left_distance = (check.left_point - shoulder).norm();
+  check.right_distance =
+      (check.right_point - Eigen::Vector3d(shoulder.x(), -shoulder.y(), shoulder.z())).norm();
+  if (check.width < config.hand_span_min) {
+    check.reason = Centimetres("object is %.1f cm across, narrower than hand_span_min %.1f cm", check.width,
+                               config.hand_span_min);
+  } else if (check.width > config.hand_span_max) {
+    check.reason = Centimetres("object is %.1f cm across, wider than hand_span_max %.1f cm", check.width,
+                               config.hand_span_max);
+  } else {
+    check.reason = ReachProblem("left", check.left_point, check.left_distance, config);
+    if (check.reason.empty())
+      check.reason = ReachProblem("right", check.right_point, check.right_distance, config);
+  }
+  check.ok = check.reason.empty();
+  return check;
+}
+
+}  // namespace planemap::nav

@@ -1,0 +1,380 @@
+// The paper's three scenarios (Table 1, Fig. 8) on a synthetic room, walked by a small test
+// double of the humanoid: each MoveTo lands with a per-run bias and per-command noise. Estimates
+// are the true pose plus noise; the object's estimate is the true object seen from the robot
+// (accurate relative to it, as a camera sees it) placed by the estimated pose.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <random>
+#include <vector>
+
+#include "planemap/nav/grasp.h"
+#include "planemap/nav/humanoid.h"
+#include "planemap/nav/mission.h"
+#include "test_support.h"
+
+namespace planemap::nav {
+namespace {
+
+using planemap::testing::Median;
+using planemap::testing::Rectangle;
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kRate = 30.0;  // camera frames per second
+const Eigen::Vector3d kX = Eigen::Vector3d::UnitX(), kY = Eigen::Vector3d::UnitY(),
+                      kZ = Eigen::Vector3d::UnitZ();
+
+struct WalkError {
+  double scale = 0.0, lateral = 0.0, turn = 0.0;  // per-run bias: [-], [m/m], [rad/m]
+  double noise_xy = 0.0, noise_turn = 0.0;        // per-command noise std: [m/m], [rad/(m + rad)]
+};
+
+// Walks each MoveTo in a straight interpolation at 0.1 m/s and 0.5 rad/s to where the command,
+// perturbed, leads; Stop() halts where it is.
+class FakeHumanoid : public Humanoid {
+ public:
+  FakeHumanoid(const Pose2& start, const WalkError& error, unsigned seed)
+      : pose_(start), error_(error), rng_(seed) {}
+
+  void MoveTo(double dx, double dy, double dtheta) override {
+    std::normal_distribution<double> n(0.0, 1.0);
+    const double d = std::hypot(dx, dy);
+    const Pose2 landed{dx * (1.0 + error_.scale) + error_.noise_xy * d * n(rng_),
+                       dy + error_.lateral * d + error_.noise_xy * d * n(rng_),
+                       dtheta + error_.turn * d + error_.noise_turn * (d + std::abs(dtheta)) * n(rng_)};
+    from_ = pose_;
+    to_ = Compose(pose_, landed);
+    duration_ = std::max({d / 0.1, std::abs(landed.theta) / 0.5, 0.2});
+    elapsed_ = 0.0;
+    walking_ = true;
+  }
+  void Stop() override { walking_ = false; }
+  bool IsWalking() const override { return walking_; }
+
+  void Advance(double dt) {
+    if (!walking_) return;
+    elapsed_ = std::min(duration_, elapsed_ + dt);
+    const double s = elapsed_ / duration_;
+    pose_ = {from_.x + s * (to_.x - from_.x), from_.y + s * (to_.y - from_.y),
+             WrapAngle(from_.theta + s * WrapAngle(to_.theta - from_.theta))};
+    if (elapsed_ >= duration_) walking_ = false;
+  }
+  const Pose2& TruePose() const { return pose_; }
+
+ private:
+  Pose2 pose_, from_, to_;
+  WalkError error_;
+  std::mt19937 rng_;
+  double duration_ = 0.0, elapsed_ = 0.0;
+  bool walking_ = false;
+};
+
+MapObject Box(const Eigen::Vector3d& center, double yaw_deg, const Eigen::Vector3d& dimensions) {
+  MapObject box;
+  box.label = "box";
+  box.center = center;
+  box.axes = Eigen::AngleAxisd(yaw_deg * kDeg, kZ).toRotationMatrix();
+  box.dimensions = dimensions;
+  box.has_grasp_axis = true;
+  box.grasp_axis = box.axes.col(0);
+  return box;
+}
+
+// Floor x in [-1, 3.5], y in [-2, 2]; a wall at x = 3.5; the default scene's box to grasp (its
+// +x face and top as landmarks); a 30 x 30 x 40 cm crate in the way at (1, 0).
+PlaneMap Room() {
+  PlaneMap map;
+  map.landmarks.push_back(Rectangle(0, {1.25, 0.0, 0.0}, kX, 2.25, kY, 2.0));
+  map.landmarks[0].floor_votes = 1;
+  map.landmarks.push_back(Rectangle(1, {3.5, 0.0, 1.0}, kZ, 1.0, kY, 2.0));
+  MapObject box = Box({2.1, 0.1, 0.125}, 215.0, {0.25, 0.35, 0.25});
+  const Eigen::Vector3d x = box.axes.col(0), y = box.axes.col(1);
+  map.landmarks.push_back(Rectangle(2, box.center + 0.125 * x, y, 0.175, kZ, 0.125));
+  map.landmarks.push_back(Rectangle(3, box.center + 0.125 * kZ, x, 0.125, y, 0.175));
+  box.landmarks = {2, 3};
+  map.objects.push_back(box);
+  map.objects.push_back(Box({1.0, 0.0, 0.2}, 10.0, {0.3, 0.3, 0.4}));
+  return map;
+}
+
+struct Trial {
+  Scenario scenario = Scenario::kObjectApproach;
+  WalkError walk;
+  double pose_noise = 0.0, heading_noise_deg = 0.0;  // estimate = true pose + this noise (std)
+  double object_noise = 0.0;                         // object centre estimate noise (std) [m]
+  unsigned seed = 1;
+  double lost_from = 1e9, lost_to = 1e9;                   // no estimates in [lost_from, lost_to) [s]
+  double object_moves_at = 1e9;                            // the object then moves ...
+  Eigen::Vector2d object_shift = Eigen::Vector2d::Zero();  // ... by this [m]
+};
+
+struct Outcome {
+  MissionStatus status;
+  Pose2 final_pose, true_pre_grasp, planned_pre_grasp, final_target;
+  std::vector<ControlPointRecord> records;
+  std::vector<Pose2> path;
+  std::vector<Pose2> trajectory;  // true poses, every frame
+  int replans = 0;
+  bool walking_at_end = false;
+  double ErrorCm() const { return 100.0 * (final_pose.Position() - true_pre_grasp.Position()).norm(); }
+};
+
+// The object as seen from the true pose, placed in the world by the estimated pose.
+MapObject Seen(MapObject object, const Pose2& truth, const Pose2& estimate, double noise, std::mt19937* rng) {
+  std::normal_distribution<double> n(0.0, noise);
+  const Pose2 drift = Compose(estimate, Inverse(truth));
+  const Pose2 c = Compose(drift, {object.center.x(), object.center.y(), 0.0});
+  object.center.head<2>() = Eigen::Vector2d(c.x + n(*rng), c.y + n(*rng));
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(drift.theta, kZ).toRotationMatrix();
+  object.axes = turn * object.axes;
+  object.grasp_axis = turn * object.grasp_axis;
+  return object;
+}
+
+Outcome Simulate(const Trial& run) {
+  const PlaneMap map = Room();
+  MapObject truth = map.objects[0];
+  const Pose2 start{0.0, 0.0, 0.0};
+  FakeHumanoid robot(start, run.walk, run.seed);
+  Mission mission(run.scenario, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+  const PlanResult plan = mission.Plan(map, 0, start);
+  EXPECT_TRUE(plan.ok) << plan.reason;
+  Outcome out;
+  out.planned_pre_grasp = mission.PreGraspTarget();
+  std::mt19937 rng(1000 + run.seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int frame = 0; frame < 200 * kRate && !mission.Done(); ++frame) {
+    const double t = frame / kRate;
+    if (t >= run.object_moves_at) truth.center.head<2>() = map.objects[0].center.head<2>() + run.object_shift;
+    std::optional<Pose2> estimate;
+    MapObject seen;
+    if (t < run.lost_from || t >= run.lost_to) {
+      const Pose2 noise{run.pose_noise * n(rng), run.pose_noise * n(rng),
+                        run.heading_noise_deg * kDeg * n(rng)};
+      estimate = Compose(robot.TruePose(), noise);
+      seen = Seen(truth, robot.TruePose(), *estimate, run.object_noise, &rng);
+    }
+    mission.Update(t, estimate, estimate ? &seen : nullptr);
+    robot.Advance(1.0 / kRate);
+    out.trajectory.push_back(robot.TruePose());
+  }
+  out.status = mission.Status();
+  out.final_pose = robot.TruePose();
+  out.true_pre_grasp = PreGraspPose(truth, GraspConfig{}, -truth.center.head<2>());
+  out.final_target = mission.PreGraspTarget();
+  out.records = mission.Records();
+  out.path = mission.ReferencePath();
+  out.replans = mission.Replans();
+  out.walking_at_end = robot.IsWalking();
+  return out;
+}
+
+// A walker that drifts: per-run biases drawn from the seed, as a real gait's.
+WalkError Drifting(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  WalkError e;
+  e.scale = 0.04 * n(rng);
+  e.lateral = 0.05 * n(rng);
+  e.turn = 0.06 * n(rng);
+  e.noise_xy = 0.03;
+  e.noise_turn = 0.02;
+  return e;
+}
+
+class PerfectWalk : public ::testing::TestWithParam<Scenario> {};
+
+TEST_P(PerfectWalk, ReachesThePreGraspPose) {
+  Trial run;
+  run.scenario = GetParam();
+  const Outcome out = Simulate(run);
+  EXPECT_TRUE(out.status.Reached()) << out.status.reason;
+  EXPECT_LT(out.ErrorCm(), 1.0);
+  EXPECT_LT(std::abs(WrapAngle(out.final_pose.theta - out.true_pre_grasp.theta)) / kDeg, 2.0);
+  EXPECT_TRUE(CheckGrasp(Room().objects[0], out.final_pose, GraspConfig{}).ok);
+  ASSERT_FALSE(out.records.empty());
+  EXPECT_EQ(out.records.front().index, 0);
+  for (const ControlPointRecord& r : out.records) {
+    // The approach cuts straight to the object-derived pose; the path bends round the crate.
+    EXPECT_LT(r.distance_to_path * 100.0, r.phase == Phase::kPath ? 0.1 : 3.0) << r.index;
+  }
+  EXPECT_EQ(out.replans, 0);
+}
+INSTANTIATE_TEST_SUITE_P(Scenarios, PerfectWalk,
+                         ::testing::Values(Scenario::kOpenLoop, Scenario::kPathFeedback,
+                                           Scenario::kObjectApproach));
+
+TEST(Mission, FeedbackOrdersTheFinalErrorsAsInTable1) {
+  std::vector<double> errors[3];
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    for (int k = 0; k < 3; ++k) {
+      Trial run;
+      run.scenario = static_cast<Scenario>(k + 1);
+      run.walk = Drifting(seed);
+      run.pose_noise = 0.015;
+      run.heading_noise_deg = 1.0;
+      run.object_noise = 0.003;
+      run.seed = seed;
+      const Outcome out = Simulate(run);
+      errors[k].push_back(out.ErrorCm());
+      if (std::getenv("PLANEMAP_VERBOSE"))
+        std::printf("seed %u scenario %d: %.1f cm, %zu records, %d replans, %s\n", seed, k + 1, out.ErrorCm(),
+                    out.records.size(), out.replans, out.status.reason.c_str());
+      if (k > 0) {
+        EXPECT_TRUE(out.status.Reached() || out.status.reason.find("approach_steps_max") != std::string::npos)
+            << out.status.reason;
+      }
+    }
+  }
+  const double s1 = Median(errors[0]), s2 = Median(errors[1]), s3 = Median(errors[2]);
+  std::printf("final pre-grasp position error, median of 10 seeds [cm]: scenario 1 %.1f, 2 %.1f, 3 %.1f\n",
+              s1, s2, s3);
+  EXPECT_GT(s1, s2);
+  EXPECT_GT(s2, s3);
+  EXPECT_LT(s3, 3.0);
+}
+
+// Distance from p to the nearest obstacle of the room, and to the target box [m].
+double CrateOrWallDistance(const Eigen::Vector2d& p) {
+  static const Footprint crate = FootprintOf(Room().objects[1]);
+  return std::min(crate.Distance(p), 3.5 - p.x());
+}
+double BoxDistance(const Eigen::Vector2d& p) {
+  static const Footprint box = FootprintOf(Room().objects[0]);
+  return box.Distance(p);
+}
+
+TEST(Mission, NeitherPathNorWalkCrossesAnInflatedObstacle) {
+  const PlannerConfig planner;
+  for (int k = 0; k < 3; ++k) {
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      Trial run;
+      run.scenario = static_cast<Scenario>(k + 1);
+      run.walk = Drifting(seed);
+      run.pose_noise = 0.015;
+      run.seed = seed;
+      const Outcome out = Simulate(run);
+      for (size_t i = 1; i < out.path.size(); ++i) {
+        const Eigen::Vector2d a = out.path[i - 1].Position(), b = out.path[i].Position();
+        for (double s = 0.0; s <= 1.0; s += 0.01) {
+          const Eigen::Vector2d p = a + s * (b - a);
+          const bool last_leg = (p - out.final_target.Position()).norm() <= planner.approach_distance;
+          ASSERT_GE(CrateOrWallDistance(p) * 100.0, planner.robot_radius * 100.0);
+          ASSERT_GE(BoxDistance(p) * 100.0,
+                    (last_leg ? planner.final_leg_radius : planner.robot_radius) * 100.0);
+        }
+      }
+      // With feedback the walk itself keeps clear: no closer than the last leg's body radius.
+      if (k == 0) continue;
+      for (const Pose2& pose : out.trajectory) {
+        ASSERT_GE(std::min(CrateOrWallDistance(pose.Position()), BoxDistance(pose.Position())) * 100.0,
+                  planner.final_leg_radius * 100.0)
+            << "scenario " << k + 1 << " seed " << seed;
+      }
+    }
+  }
+}
+
+TEST(Mission, ScenarioThreeSwitchesToTheObjectAfterEightControlPoints) {
+  Trial run;
+  const Outcome out = Simulate(run);
+  ASSERT_TRUE(out.status.Reached()) << out.status.reason;
+  int last_path_index = -1;
+  double last_time = -1.0;
+  for (const ControlPointRecord& r : out.records) {
+    if (r.phase == Phase::kPath) last_path_index = r.index;
+    EXPECT_GT(r.time, last_time);
+    last_time = r.time;
+  }
+  EXPECT_EQ(last_path_index, MissionConfig{}.path_following_points);
+  EXPECT_EQ(out.records.back().phase, Phase::kApproach);
+}
+
+TEST(Mission, LosingTheEstimateStopsTheRobotAndGivesUpWithAReason) {
+  Trial run;
+  run.scenario = Scenario::kPathFeedback;
+  run.lost_from = 4.0;
+  run.lost_to = 1e9;
+  const Outcome out = Simulate(run);
+  const MissionConfig config;
+  EXPECT_EQ(out.status.outcome, MissionStatus::Outcome::kStopped);
+  EXPECT_NE(out.status.reason.find("no pose estimate for"), std::string::npos) << out.status.reason;
+  EXPECT_FALSE(out.walking_at_end);
+  // Still from lost_timeout (and a frame) after the last estimate on.
+  const size_t still = static_cast<size_t>(std::ceil((run.lost_from + config.lost_timeout) * kRate)) + 2;
+  ASSERT_LT(still, out.trajectory.size());
+  const Eigen::Vector2d parked = out.trajectory[still].Position();
+  for (size_t f = still; f < out.trajectory.size(); ++f) ASSERT_EQ(out.trajectory[f].Position(), parked) << f;
+  EXPECT_NEAR(static_cast<double>(out.trajectory.size()) / kRate, run.lost_from + config.give_up_timeout,
+              0.1);
+}
+
+TEST(Mission, AShortLossOnlyPausesTheWalk) {
+  Trial run;
+  run.walk = Drifting(3);
+  run.pose_noise = 0.01;
+  run.lost_from = 4.0;
+  run.lost_to = 6.0;
+  const Outcome out = Simulate(run);
+  EXPECT_TRUE(out.status.Reached()) << out.status.reason;
+  EXPECT_LT(out.ErrorCm(), 3.0);
+  const size_t from = static_cast<size_t>(4.6 * kRate), to = static_cast<size_t>(6.0 * kRate) - 1;
+  EXPECT_EQ(out.trajectory[from].Position(), out.trajectory[to].Position());
+}
+
+TEST(Mission, AMovedObjectIsRetargeted) {
+  for (Scenario scenario : {Scenario::kPathFeedback, Scenario::kObjectApproach}) {
+    Trial run;
+    run.scenario = scenario;
+    run.walk = Drifting(4);
+    run.pose_noise = 0.01;
+    run.object_noise = 0.003;
+    run.object_moves_at = 3.0;
+    run.object_shift = {0.1, 0.3};
+    const Outcome out = Simulate(run);
+    EXPECT_TRUE(out.status.Reached()) << out.status.reason;
+    EXPECT_GE(out.replans, 1);
+    EXPECT_GT((out.planned_pre_grasp.Position() - out.true_pre_grasp.Position()).norm(), 0.25);
+    EXPECT_LT((out.final_target.Position() - out.true_pre_grasp.Position()).norm() * 100.0, 3.0);
+    EXPECT_LT(out.ErrorCm(), scenario == Scenario::kObjectApproach ? 2.0 : 5.0) << static_cast<int>(scenario);
+    ASSERT_FALSE(out.records.empty());
+    EXPECT_GE(out.records.back().plan, 1);
+  }
+}
+
+TEST(Mission, PlanFailuresComeBackWithReasons) {
+  FakeHumanoid robot({}, {}, 1);
+  Mission mission(Scenario::kObjectApproach, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+  mission.Update(0.0, Pose2{}, nullptr);  // before a plan: nothing happens
+  EXPECT_FALSE(robot.IsWalking());
+  EXPECT_FALSE(mission.Done());
+  PlaneMap map = Room();
+  PlanResult plan = mission.Plan(map, 7, {});
+  EXPECT_FALSE(plan.ok);
+  EXPECT_NE(plan.reason.find("object 7 is not in the map (2 objects)"), std::string::npos) << plan.reason;
+  map.objects[0].dimensions.y() = 0.6;
+  plan = mission.Plan(map, 0, {});
+  EXPECT_FALSE(plan.ok);
+  EXPECT_NE(plan.reason.find("cannot be grasped"), std::string::npos) << plan.reason;
+  map = Room();
+  plan = mission.Plan(map, 0, {0.9, 0.0, 0.0});  // standing on the crate
+  EXPECT_FALSE(plan.ok);
+  EXPECT_NE(plan.reason.find("start (0.90, 0.00) is blocked"), std::string::npos) << plan.reason;
+  MissionConfig bad;
+  bad.settle_time = -1.0;
+  EXPECT_THROW(Mission(Scenario::kOpenLoop, bad, PlannerConfig{}, GraspConfig{}, &robot),
+               std::invalid_argument);
+}
+
+TEST(Mission, DistanceToPath) {
+  const std::vector<Pose2> path{{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {1.0, 1.0, 0.0}};
+  EXPECT_NEAR(DistanceToPath(path, {0.5, 0.2}), 0.2, 1e-12);
+  EXPECT_NEAR(DistanceToPath(path, {1.3, 0.5}), 0.3, 1e-12);
+  EXPECT_NEAR(DistanceToPath(path, {-0.3, -0.4}), 0.5, 1e-12);
+  EXPECT_TRUE(std::isinf(DistanceToPath({}, {0.0, 0.0})));
+}
+
+}  // namespace
+}  // namespace planemap::nav
