@@ -75,6 +75,13 @@ MapObject TrueObject(const sim::SceneObject& o, const Eigen::Vector3d& estimated
   return m;
 }
 
+// Every object's footprint on the floor, for the collision check.
+std::vector<std::pair<std::string, nav::Footprint>> Footprints(const sim::Scene& scene) {
+  std::vector<std::pair<std::string, nav::Footprint>> footprints;
+  for (const sim::SceneObject& o : scene.objects) footprints.emplace_back(o.name, nav::FootprintOf(TrueObject(o, Eigen::Vector3d::UnitX())));
+  return footprints;
+}
+
 // The mapped object of the target class seen most often; -1 if none.
 int FindTarget(const PlaneMap& map, const std::string& label) {
   int best = -1;
@@ -122,6 +129,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
   run.scenario = options.scenario;
   run.seed = options.seed;
   const sim::SceneObject* target_truth = nullptr;
+  std::vector<std::pair<std::string, nav::Footprint>> footprints = Footprints(scene);
   sim::Scene moved_scene;
   bool moved = false;
   int target = -1;
@@ -137,6 +145,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
       moved_scene = MovedScene(scene_file, target_truth->name, options.move_object_by, options.seed);
       moved_sensor = std::make_unique<sim::VirtualCamera>(moved_scene, camera, config.render);
       target_truth = &moved_scene.object(target_truth->name);
+      footprints = Footprints(moved_scene);
       moved = true;
     }
     const bool dropped = options.drop_at >= 0.0 && t >= options.drop_at && t < options.drop_at + options.drop_duration;
@@ -207,15 +216,12 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
       }
     }
     // Collisions: the robot's true footprint against every true object.
-    const sim::Scene& now = moved ? moved_scene : scene;
-    for (const sim::SceneObject& o : now.objects) {
-      const double gap = nav::FootprintOf(TrueObject(o, Eigen::Vector3d::UnitX())).Distance(robot.TruePose().Position());
-      if (!run.collided && gap < options.body_radius) {
-        run.collided = true;
-        char text[128];
-        std::snprintf(text, sizeof(text), "%s at %.1f s", o.name.c_str(), t);
-        run.collision = text;
-      }
+    for (const auto& [name, footprint] : footprints) {
+      if (run.collided || footprint.Distance(robot.TruePose().Position()) >= options.body_radius) continue;
+      run.collided = true;
+      char text[128];
+      std::snprintf(text, sizeof(text), "%s at %.1f s", name.c_str(), t);
+      run.collision = text;
     }
     robot.Advance(dt);
   }
