@@ -13,7 +13,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   # The sanitized build runs every test but the longest rendered walks (3-4 min each there), whose
   # code paths the default walk, the single-wall walk and the rendered merge already take, and all
   # but one closed-loop approach run (the dropped-frames run takes the whole loop's paths).
-  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)|Approach\.(FeedbackBeats|AnObjectMoved)'
+  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)|Approach\.(FeedbackBeats|AnObjectMoved|ScenarioThreeEnds)'
 else
   build_dir=build
   bash scripts/build.sh "$build_dir"

@@ -30,19 +30,20 @@ TEST(Grasp, PreGraspPoseOfTheDefaultBox) {
   const MapObject box = DefaultBox();
   const GraspConfig config;
   const Pose2 pose = PreGraspPose(box, config, kTowardStart);
-  // 22 cm out of the +x face's centre line, facing the box: heading 215 - 180 = 35 deg.
-  EXPECT_NEAR(pose.x, 2.1 + 0.22 * std::cos(215.0 * kDeg), 1e-9);
-  EXPECT_NEAR(pose.y, 0.1 + 0.22 * std::sin(215.0 * kDeg), 1e-9);
+  // 23.5 cm out of the +x face's centre line, facing the box: heading 215 - 180 = 35 deg.
+  EXPECT_NEAR(pose.x, 2.1 + 0.235 * std::cos(215.0 * kDeg), 1e-9);
+  EXPECT_NEAR(pose.y, 0.1 + 0.235 * std::sin(215.0 * kDeg), 1e-9);
   EXPECT_NEAR(pose.theta / kDeg, 35.0, 1e-9);
   const GraspGeometry faces = GraspFaces(box, kTowardStart);
   EXPECT_NEAR(faces.width * 100.0, 35.0, 1e-9);
   EXPECT_NEAR(faces.depth * 100.0, 25.0, 1e-9);
-  // The near face 9.5 cm ahead of the base origin: at least body_clearance.
-  EXPECT_NEAR((0.22 - 0.5 * faces.depth) * 100.0, 9.5, 1e-9);
+  // The near face 11 cm ahead of the base origin: at least body_clearance (toes 8 cm, a 3 cm gap).
+  EXPECT_NEAR((0.235 - 0.5 * faces.depth) * 100.0, 11.0, 1e-9);
+  EXPECT_GE((0.235 - 0.5 * faces.depth), config.body_clearance);
   // Grasp points on the side faces, at the centre's height, left of the robot on its left.
   const GraspCheck check = CheckGrasp(box, pose, config);
   EXPECT_TRUE(check.ok) << check.reason;
-  EXPECT_NEAR(check.left_point.x() * 100.0, 22.0, 1e-6);
+  EXPECT_NEAR(check.left_point.x() * 100.0, 23.5, 1e-6);
   EXPECT_NEAR(check.left_point.y() * 100.0, 17.5, 1e-6);
   EXPECT_NEAR(check.right_point.y() * 100.0, -17.5, 1e-6);
   EXPECT_NEAR(check.left_point.z() * 100.0, 12.5, 1e-6);
@@ -83,7 +84,9 @@ TEST_P(GraspNear, PassesWithinFewCentimetresAndFiveDegrees) {
     }
   }
 }
-INSTANTIATE_TEST_SUITE_P(Offsets, GraspNear, ::testing::Values(0.0, 0.01, 0.02, 0.03));
+// Standing 3 cm clear of the box costs reach: 3 cm farther back and turned 5 deg, a hand needs
+// 27 cm (reach_max 26.5 cm).
+INSTANTIATE_TEST_SUITE_P(Offsets, GraspNear, ::testing::Values(0.0, 0.01, 0.02));
 
 class GraspFar : public ::testing::TestWithParam<double> {};
 

@@ -366,6 +366,10 @@ TEST(Mission, PlanFailuresComeBackWithReasons) {
   bad.settle_time = -1.0;
   EXPECT_THROW(Mission(Scenario::kOpenLoop, bad, PlannerConfig{}, GraspConfig{}, &robot),
                std::invalid_argument);
+  // The last leg may not keep more from the box than the pre-grasp pose does.
+  PlannerConfig wide;
+  wide.final_leg_radius = GraspConfig{}.body_clearance;
+  EXPECT_THROW(Mission(Scenario::kOpenLoop, MissionConfig{}, wide, GraspConfig{}, &robot), std::invalid_argument);
 }
 
 TEST(Mission, DistanceToPath) {

@@ -147,6 +147,26 @@ TEST(Planner, TheTargetLetsTheLastLegIn) {
   EXPECT_NEAR(box.Distance(stand) * 100.0, 9.5, 0.1);
 }
 
+// A face the tracker holds twice, 3 cm in front of the box, is the box's own surface; a panel
+// 8 cm in front (beyond target_margin) is an obstacle that blocks the pre-grasp pose.
+TEST(Planner, TheTargetsOwnSurfacesAreNotObstacles) {
+  const PlannerConfig config;
+  const MapObject box = Box({2.5, 0.3, 0.125}, 0.0, {0.25, 0.35, 0.25});
+  const Pose2 pre_grasp{2.5 - 0.235, 0.3, 0.0};
+  for (const double gap : {0.03, 0.08}) {
+    PlaneMap map = EmptyRoom();
+    map.objects.push_back(box);
+    map.landmarks.push_back(Rectangle(1, {2.375 - gap, 0.3, 0.125}, kY, 0.17, kZ, 0.12));
+    const PlanResult plan = PlanPath(BuildOccupancyGrid(map, config, {0, pre_grasp}), {0.0, 0.0, 0.0}, pre_grasp);
+    if (gap <= config.target_margin) {
+      EXPECT_TRUE(plan.ok) << gap * 100 << " cm: " << plan.reason;
+    } else {
+      EXPECT_FALSE(plan.ok) << gap * 100 << " cm";
+      EXPECT_NE(plan.reason.find("goal"), std::string::npos) << plan.reason;
+    }
+  }
+}
+
 TEST(Planner, ControlPointsAreEvenlySpacedAndEndAtTheGoal) {
   const std::vector<Pose2> path{{0.0, 0.0, 0.3}, {1.0, 0.0, 0.0}, {1.0, 1.0, M_PI / 2}};
   const Pose2 goal{1.0, 1.0, M_PI};

@@ -28,6 +28,12 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 double Ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
 
+std::string Seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f s", s);
+  return text;
+}
+
 // The scene with one object moved by (dx, dy) [m] and turned by dyaw [deg]: the scene file
 // edited and loaded again, so the moved object's surfaces are built as any scene's are.
 sim::Scene MovedScene(const std::string& file, const std::string& object, const std::vector<double>& by, int seed) {
@@ -138,7 +144,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
     const double t = k * dt;
     if (t > options.max_time) {
       run.status.outcome = nav::MissionStatus::Outcome::kStopped;
-      run.status.reason = "out of time after " + std::to_string(options.max_time) + " s";
+      run.status.reason = "out of time after " + Seconds(options.max_time);
       break;
     }
     if (!moved && target_truth && options.move_object_at >= 0.0 && t >= options.move_object_at) {
@@ -195,8 +201,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
         run.reference = mission.ReferencePath();
         run.pregrasp_planned = mission.PreGraspTarget();
       } else if (t >= options.look_timeout) {
-        run.status = {nav::MissionStatus::Outcome::kStopped, "no " + options.target + " in the map after " +
-                                                                 std::to_string(options.look_timeout) + " s of looking"};
+        run.status = {nav::MissionStatus::Outcome::kStopped,
+                      "no " + options.target + " in the map after " + Seconds(options.look_timeout) + " of looking"};
         break;
       }
     }

@@ -3,11 +3,13 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <mutex>
 #include <thread>
 
 #include <nlohmann/json.hpp>
+#include <omp.h>
 
 #include "planemap/apps/approach.h"
 #include "planemap/apps/commands.h"
@@ -168,13 +170,24 @@ int RunApproach(const ApproachCommandOptions& options) {
   std::mutex print;
   const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   std::vector<std::thread> pool;
+  std::exception_ptr failure;  // the first run that threw (bad input): no further runs start
   for (int t = 0; t < std::min<int>(threads, runs.size()); ++t) {
     pool.emplace_back([&] {
+      // The renderer's OpenMP loops get one thread per run: runs side by side on every core do
+      // better than each run's threads spinning against the others'.
+      if (threads > 1) omp_set_num_threads(1);
       for (int i = next++; i < static_cast<int>(runs.size()); i = next++) {
         ApproachOptions o = options.run;
         o.scenario = 1 + i / options.seeds;
         o.seed = options.run.seed + i % options.seeds;
-        runs[i] = RunApproachOnce(o);
+        try {
+          runs[i] = RunApproachOnce(o);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(print);
+          if (!failure) failure = std::current_exception();
+          next = static_cast<int>(runs.size());
+          return;
+        }
         const std::lock_guard<std::mutex> lock(print);
         std::fprintf(stderr, "\rrun %d/%zu done   ", ++done, runs.size());
       }
@@ -182,6 +195,7 @@ int RunApproach(const ApproachCommandOptions& options) {
   }
   for (std::thread& t : pool) t.join();
   std::fprintf(stderr, "\n");
+  if (failure) std::rethrow_exception(failure);
 
   std::printf("planemap approach --table: %s, %d seeds (%d-%d) per scenario\n", options.run.scene.c_str(), options.seeds, options.run.seed,
               options.run.seed + options.seeds - 1);

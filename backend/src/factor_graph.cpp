@@ -260,7 +260,7 @@ void FactorGraph::AddCuboids(const std::vector<const FrameObservations*>& frames
                                     ", the map has " + std::to_string(map_.objects.size()));
       }
       const int ci = cuboid_of_object[o.object];
-      if (ci < 0) continue;
+      if (ci < 0 || frames[i]->frame < map_.objects[o.object].since_frame) continue;  // seen before it moved
       Cuboid& c = cuboids_[ci];
       const Eigen::Matrix3d R = PoseFromBlock(c.pose.data()).linear();
       problem_.AddResidualBlock(ObjectCenterFactor::Create(o.center, config_.center_sigma), Loss(), poses_[i].data(), c.pose.data());

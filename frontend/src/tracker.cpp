@@ -12,6 +12,10 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
+// The heading of an object's x axis about the vertical [rad]; a box's axes are known up to a
+// quarter turn, so only differences modulo pi/2 mean anything.
+double YawModQuarter(const Eigen::Matrix3d& axes) { return std::atan2(axes(1, 0), axes(0, 0)); }
+
 }  // namespace
 
 const char* ToString(TrackStatus status) {
@@ -401,6 +405,26 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   return result;
 }
 
+int Tracker::SeenElsewhere(const MapObject& mo, const Eigen::Matrix3d& frame_axes, const Eigen::Vector3d& center, bool whole) const {
+  if (mo.center_count < config_.object_moved_views) return -1;  // too few whole views to judge by
+  const double turn = std::remainder(YawModQuarter(frame_axes) - YawModQuarter(mo.axes), M_PI / 2.0);
+  if (std::abs(turn) > config_.object_moved_angle_deg * kDegToRad) return 1;
+  if (!whole) return -1;  // a partial view's centre is not where the object's is
+  return (center - mo.center).norm() > config_.object_moved_distance ? 1 : 0;
+}
+
+void Tracker::RestartMovedObject(const Eigen::Matrix3d& frame_axes, MapObject* mo) const {
+  MapObject fresh;
+  fresh.id = mo->id;
+  fresh.label = mo->label;
+  fresh.label_votes = mo->label_votes;
+  fresh.observations = mo->observations;
+  fresh.moves = mo->moves + 1;
+  fresh.since_frame = mo->moved_from_frame;
+  fresh.axes = frame_axes;
+  *mo = std::move(fresh);
+}
+
 void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<int>& landmark_of_plane,
                                    const Pose3& T_world_camera, FrameObservations* record) {
   // Edges: the merged edge is the longest one seen (paper, "Merging ... map representation").
@@ -451,6 +475,16 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     MapObject& mo = map_.objects[match];
     ++mo.observations;
     record->objects.push_back({mo.id, fo.axes, fo.dimensions, fo.dimension_complete, fo.center});
+    if (mo.since_frame < 0) mo.since_frame = record->frame;
+    const Eigen::Matrix3d frame_axes = R * fo.axes;
+    const bool whole = std::all_of(fo.dimension_complete.begin(), fo.dimension_complete.end(), [](bool b) { return b; });
+    const int disagrees = SeenElsewhere(mo, frame_axes, center, whole);
+    if (disagrees == 0) mo.moved_views = 0;
+    if (disagrees > 0) {
+      if (mo.moved_views++ == 0) mo.moved_from_frame = record->frame;
+      if (mo.moved_views < config_.object_moved_views) continue;  // not averaged in while it may be noise
+      RestartMovedObject(frame_axes, &mo);
+    }
     for (int f : faces) {
       if (std::find(mo.landmarks.begin(), mo.landmarks.end(), f) == mo.landmarks.end()) mo.landmarks.push_back(f);
     }
@@ -460,7 +494,6 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     mo.label = Vote(&mo.label_votes, fo.label, fo.height_known ? config_.decided_vote_weight : 1);
     // Dimensions: each frame axis adds to the map axis most parallel to it. A complete edge gives
     // the mean of complete observations; without any, the longest seen bounds it from below.
-    const Eigen::Matrix3d frame_axes = R * fo.axes;
     bool all_complete = true;
     for (int j = 0; j < 3; ++j) {
       int k = 0;
@@ -499,6 +532,11 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
       x = (x - x.dot(z) * z).normalized();
       mo.axes.col(0) = x;
       mo.axes.col(1) = z.cross(x);
+    } else if (mo.partial_center_count > 1) {
+      // No face is a landmark (a moved object's faces can lie where its old faces were, which
+      // they then do not update): the running mean of the views' turn about the vertical.
+      const double turn = YawModQuarter(frame_axes) - YawModQuarter(mo.axes);
+      mo.axes = Eigen::AngleAxisd(std::remainder(turn, M_PI / 2.0) / mo.partial_center_count, Eigen::Vector3d::UnitZ()) * mo.axes;
     }
     // Grasp axis: the normal of the landmark chosen as grasp side most often.
     if (fo.grasp_side >= 0 && landmark_of_plane[fo.grasp_side] >= 0) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace planemap::nav {
@@ -21,6 +23,7 @@ struct MissionState {
   int object_index = -1;
   MapObject object;                                          // the target's latest estimate (world)
   Eigen::Vector2d planned_center = Eigen::Vector2d::Zero();  // where the target was at the last plan [m]
+  double planned_yaw = 0.0;                                  // its x axis's heading then [rad]
   // g chosen at the last plan; the approach keeps this face.
   Eigen::Vector2d grasp_axis = Eigen::Vector2d::UnitX();
   Pose2 pre_grasp;
@@ -49,6 +52,9 @@ std::string Format(const char* format, double a, double b = 0.0) {
   std::snprintf(text, sizeof(text), format, a, b);
   return text;
 }
+
+// The heading of an object's x axis [rad].
+double Yaw(const Eigen::Matrix3d& axes) { return std::atan2(axes(1, 0), axes(0, 0)); }
 
 void Finish(State& s, Outcome outcome, std::string reason) {
   if (outcome == Outcome::kStopped) s.robot->Stop();
@@ -125,6 +131,7 @@ void Retarget(State& s, const Pose2& from) {
   s.pre_grasp = PreGraspPose(s.object, s.grasp, toward_robot);
   s.grasp_axis = GraspFaces(s.object, toward_robot).axis;
   s.planned_center = s.object.center.head<2>();
+  s.planned_yaw = Yaw(s.object.axes);
   s.moved_since.reset();
 }
 
@@ -267,12 +274,14 @@ bool HandleLost(State& s, double time) {
   return true;
 }
 
-// Keeps the object's latest estimate; when it has stayed beyond the threshold for object_moved_time
+// Keeps the object's latest estimate; when it has stayed moved or turned beyond the thresholds for object_moved_time
 // (one noisy frame is no move), stops the robot and re-targets at the next stop: the walk in
 // progress may lead into where the object now is.
 void WatchObject(State& s, double time, const MapObject& object) {
   s.object = object;
-  if ((object.center.head<2>() - s.planned_center).norm() <= s.config.object_moved_threshold) {
+  const double turn = std::remainder(Yaw(object.axes) - s.planned_yaw, M_PI / 2.0);  // a box's axes: up to a quarter turn
+  if ((object.center.head<2>() - s.planned_center).norm() <= s.config.object_moved_threshold &&
+      std::abs(turn) <= s.config.object_turned_threshold_deg * kDeg) {
     s.moved_since.reset();
     return;
   }
@@ -293,6 +302,11 @@ Mission::Mission(Scenario scenario, const MissionConfig& config, const PlannerCo
   ValidateConfig(config, "mission.");
   ValidateConfig(planner, "planner.");
   ValidateConfig(grasp, "grasp.");
+  if (planner.final_leg_radius >= grasp.body_clearance) {
+    throw std::invalid_argument("planner.final_leg_radius (" + std::to_string(planner.final_leg_radius) +
+                                " m) must be below grasp.body_clearance (" + std::to_string(grasp.body_clearance) +
+                                " m): a pre-grasp pose that close to its box would count as blocked");
+  }
   state_->scenario = scenario;
   state_->config = config;
   state_->planner = planner;

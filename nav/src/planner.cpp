@@ -126,17 +126,21 @@ std::vector<std::uint8_t> ObstacleCells(const PlaneMap& map, const OccupancyGrid
     const std::vector<int>& faces = map.objects[grid.target.object].landmarks;
     return std::find(faces.begin(), faces.end(), id) != faces.end();
   };
+  const auto near_target = [&](const Eigen::Vector2d& p) {
+    return has_target && grid.target_footprint.Distance(p) <= config.target_margin;
+  };
   for (const PlaneLandmark& l : map.landmarks) {
     if (l.id == floor_landmark.id || is_target_face(l.id)) continue;
     for (const Eigen::Vector3f& point : l.points) {
       const double h = floor.SignedDistance(point.cast<double>());
       if (h < config.min_obstacle_height || h > config.max_obstacle_height) continue;
+      if (near_target(point.cast<double>().head<2>())) continue;
       const int k = CellIndex(grid, point.cast<double>().head<2>());
       if (k >= 0) blocked[k] = 1;
     }
   }
   for (int o = 0; o < static_cast<int>(map.objects.size()); ++o) {
-    if (o != grid.target.object && InHeightBand(map.objects[o], floor, config)) {
+    if (o != grid.target.object && !near_target(map.objects[o].center.head<2>()) && InHeightBand(map.objects[o], floor, config)) {
       MarkFootprint(grid, FootprintOf(map.objects[o]), &blocked);
     }
   }

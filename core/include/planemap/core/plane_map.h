@@ -66,6 +66,12 @@ struct MapObject {
   std::vector<std::pair<int, int>> grasp_votes;          // (landmark, times chosen as grasp side)
   int grasp_landmark = -1;                               // the most chosen: the grasp axis is its normal
   int x_landmark = -1;                                   // the face whose normal is the x axis
+  // A moved object (TrackingConfig::object_moved_*): its estimate restarts from the views that
+  // saw it where it is now; views before since_frame saw it elsewhere.
+  int moves = 0;         // times it was seen moved
+  int since_frame = -1;  // the first frame of the views its estimate rests on
+  int moved_views = 0;   // views in a row that disagree with the estimate
+  int moved_from_frame = -1;  // the first of them
   // How certain the estimate is: marginals of the back end's solution (ceres::Covariance), set
   // when it refined the object as a cuboid. A dimension only bounded from below (held at its
   // bound) has no standard deviation (-1).

@@ -86,6 +86,14 @@ struct TrackingConfig {
   double object_match_distance = 0.25;   // a frame object joins a map object this close [m]
   int decided_vote_weight = 10;          // a view that measured an object's height counts as this many
                                          // class votes as one that only bounded it from below
+  // A map object is seen moved when object_moved_views views in a row put it elsewhere: a whole
+  // view's centre farther than object_moved_distance, or any view's axes turned more than
+  // object_moved_angle_deg about the vertical. Its estimate then starts again from the last of
+  // them (the back end takes its views from the first of them on); disagreeing views are not
+  // averaged in meanwhile.
+  double object_moved_distance = 0.05;   // [m]
+  double object_moved_angle_deg = 8.0;   // [deg]
+  int object_moved_views = 10;
 
   template <class V>
   void VisitFields(V&& v) {
@@ -114,6 +122,9 @@ struct TrackingConfig {
     v("keyframe_angle_deg", keyframe_angle_deg, Check::kPositive);
     v("object_match_distance", object_match_distance, Check::kPositive);
     v("decided_vote_weight", decided_vote_weight, Check::kPositive);
+    v("object_moved_distance", object_moved_distance, Check::kPositive);
+    v("object_moved_angle_deg", object_moved_angle_deg, Check::kPositive);
+    v("object_moved_views", object_moved_views, Check::kPositive);
   }
 };
 
@@ -175,6 +186,11 @@ class Tracker {
   // Merges the frame's edges and objects into the map; records the object matches in `record`.
   void MergeEdgesAndObjects(const FrameModel& model, const std::vector<int>& landmark_of_plane,
                             const Pose3& T_world_camera, FrameObservations* record);
+  // Whether a view (world axes and centre, all dimensions whole or not) puts an established map
+  // object elsewhere: 1 it does, 0 it agrees, -1 it cannot tell.
+  int SeenElsewhere(const MapObject& mo, const Eigen::Matrix3d& frame_axes, const Eigen::Vector3d& center, bool whole) const;
+  // A moved object keeps its id, class and count of views; its estimate starts again.
+  void RestartMovedObject(const Eigen::Matrix3d& frame_axes, MapObject* mo) const;
 
   TrackingConfig config_;
   Pose3 T_world_first_;

@@ -15,8 +15,8 @@
 namespace planemap::nav {
 
 struct GraspConfig {
-  double standoff = 0.22;          // base origin to the line through the grasp points; arm's reach [m]
-  double body_clearance = 0.09;    // base origin to the object's near face, at least: toes + gap [m]
+  double standoff = 0.235;         // base origin to the line through the grasp points; arm's reach [m]
+  double body_clearance = 0.09;    // base origin to the object's near face, at least: toes (8 cm) + gap [m]
   double shoulder_forward = 0.05;  // shoulder joints ahead of the base origin (leaning torso) [m]
   double shoulder_lateral = 0.10;  // each shoulder to the side of the base origin [m]
   double shoulder_height = 0.26;   // shoulders above the floor, crouched [m]

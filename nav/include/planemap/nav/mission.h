@@ -8,7 +8,8 @@
 // Safety, in every scenario: each commanded leg is checked on the grid from the estimated pose
 // (blocked: re-plan; scenario 1, which has no feedback, stops instead); no estimate for
 // lost_timeout stops the robot until one comes back. In scenarios 2 and 3 an object estimate that
-// stays object_moved_threshold away from where it was planned re-targets the pre-grasp pose.
+// stays object_moved_threshold away from where it was planned, or turned object_turned_threshold_deg
+// from how, re-targets the pre-grasp pose.
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -43,6 +44,7 @@ struct MissionConfig {
   double lost_timeout = 0.5;              // without a pose estimate this long the robot stops [s]
   double give_up_timeout = 5.0;           // ... and this long the mission ends [s]
   double object_moved_threshold = 0.10;   // object estimate this far from the planned one ... [m]
+  double object_turned_threshold_deg = 5.0;  // ... or turned this much about the vertical ... [deg]
   double object_moved_time = 0.3;         // ... this long: re-target and re-plan [s]
   double max_step = 0.30;                 // longest commanded walk in one feedback step [m]
   double max_turn_deg = 60.0;             // largest commanded turn in one feedback step [deg]
@@ -63,6 +65,7 @@ struct MissionConfig {
     v("lost_timeout", lost_timeout, Check::kPositive);
     v("give_up_timeout", give_up_timeout, Check::kPositive);
     v("object_moved_threshold", object_moved_threshold, Check::kPositive);
+    v("object_turned_threshold_deg", object_turned_threshold_deg, Check::kPositive);
     v("object_moved_time", object_moved_time, Check::kNonNegative);
     v("max_step", max_step, Check::kPositive);
     v("max_turn_deg", max_turn_deg, Check::kPositive);

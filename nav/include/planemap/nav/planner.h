@@ -31,7 +31,10 @@ struct PlannerConfig {
   double floor_margin = 0.10;           // unknown (blocked) border around the floor's extent [m]
   double control_point_spacing = 0.15;  // along the path [m]
   double approach_distance = 0.15;      // length of the last straight leg into the goal [m]
-  double final_leg_radius = 0.05;       // on it, clearance kept from the target's footprint [m]
+  double final_leg_radius = 0.08;       // on it, clearance kept from the target's footprint: the toes; below grasp.body_clearance [m]
+  // Map points and objects this close to the target's footprint are the target's own surfaces
+  // (a face the tracker holds twice, a part taken for an object), not obstacles.
+  double target_margin = 0.05;          // [m]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -45,6 +48,7 @@ struct PlannerConfig {
     v("control_point_spacing", control_point_spacing, Check::kPositive);
     v("approach_distance", approach_distance, Check::kNonNegative);
     v("final_leg_radius", final_leg_radius, Check::kNonNegative);
+    v("target_margin", target_margin, Check::kNonNegative);
   }
 };
 
