@@ -7,21 +7,16 @@
 
 #include "planemap/core/config.h"
 #include "planemap/nav/grasp.h"
+#include "test_support.h"
 
 namespace planemap::nav {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
+// The default scene's box; its +x face looks toward the start at the origin.
 MapObject DefaultBox(const Eigen::Vector3d& dimensions = {0.25, 0.35, 0.25}) {
-  MapObject box;
-  box.label = "box";
-  box.center = {2.1, 0.1, 0.125};
-  box.axes = Eigen::AngleAxisd(215.0 * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  box.dimensions = dimensions;
-  box.has_grasp_axis = true;
-  box.grasp_axis = box.axes.col(0);  // the +x face looks toward the start at the origin
-  return box;
+  return planemap::testing::BoxObject({2.1, 0.1, 0.125}, 215.0, dimensions, +1.0);
 }
 
 const Eigen::Vector2d kTowardStart(-1.0, 0.0);

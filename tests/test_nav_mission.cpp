@@ -72,14 +72,7 @@ class FakeHumanoid : public Humanoid {
 };
 
 MapObject Box(const Eigen::Vector3d& center, double yaw_deg, const Eigen::Vector3d& dimensions) {
-  MapObject box;
-  box.label = "box";
-  box.center = center;
-  box.axes = Eigen::AngleAxisd(yaw_deg * kDeg, kZ).toRotationMatrix();
-  box.dimensions = dimensions;
-  box.has_grasp_axis = true;
-  box.grasp_axis = box.axes.col(0);
-  return box;
+  return planemap::testing::BoxObject(center, yaw_deg, dimensions, +1.0);
 }
 
 // Floor x in [-1, 3.5], y in [-2, 2]; a wall at x = 3.5; the default scene's box to grasp (its

@@ -25,15 +25,9 @@ PlaneMap EmptyRoom() {
   return map;
 }
 
+// Grasped from its -x face, toward a robot coming from -x.
 MapObject Box(const Eigen::Vector3d& center, double yaw_deg, const Eigen::Vector3d& dimensions) {
-  MapObject box;
-  box.label = "box";
-  box.center = center;
-  box.axes = Eigen::AngleAxisd(yaw_deg * kDeg, kZ).toRotationMatrix();
-  box.dimensions = dimensions;
-  box.has_grasp_axis = true;
-  box.grasp_axis = -box.axes.col(0);  // the -x face, toward a robot coming from -x
-  return box;
+  return planemap::testing::BoxObject(center, yaw_deg, dimensions, -1.0);
 }
 
 // Samples of a path every centimetre.

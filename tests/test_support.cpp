@@ -70,6 +70,17 @@ double TranslationError(const Pose3& a, const Pose3& b) { return (a.translation(
 // Where the synthetic room was seen from.
 const Eigen::Vector3d kEye(0.0, 0.0, 0.5);
 
+MapObject BoxObject(const Eigen::Vector3d& center, double yaw_deg, const Eigen::Vector3d& dimensions, double grasp_side) {
+  MapObject box;
+  box.label = "box";
+  box.center = center;
+  box.axes = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  box.dimensions = dimensions;
+  box.has_grasp_axis = true;
+  box.grasp_axis = grasp_side * box.axes.col(0);
+  return box;
+}
+
 PlaneLandmark Rectangle(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& u, double half_u,
                         const Eigen::Vector3d& v, double half_v) {
   PlaneLandmark l;

@@ -72,6 +72,9 @@ PlaneMap SyntheticRoom();
 // sampled every 2 cm, its points kept one per 5 cm voxel.
 PlaneLandmark Rectangle(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& u, double half_u,
                         const Eigen::Vector3d& v, double half_v);
+// A map box centred at `center`, turned yaw_deg about the vertical, grasped from its +x face
+// (grasp_side +1) or its -x face (-1).
+MapObject BoxObject(const Eigen::Vector3d& center, double yaw_deg, const Eigen::Vector3d& dimensions, double grasp_side);
 // An edge of such a map, seen once.
 MapEdge RoomEdge(int a, int b, const Eigen::Vector3d& start, const Eigen::Vector3d& end, bool complete, bool convex);
 

@@ -12,10 +12,6 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-// The heading of an object's x axis about the vertical [rad]; a box's axes are known up to a
-// quarter turn, so only differences modulo pi/2 mean anything.
-double YawModQuarter(const Eigen::Matrix3d& axes) { return std::atan2(axes(1, 0), axes(0, 0)); }
-
 }  // namespace
 
 const char* ToString(TrackStatus status) {
@@ -407,8 +403,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
 
 int Tracker::SeenElsewhere(const MapObject& mo, const Eigen::Matrix3d& frame_axes, const Eigen::Vector3d& center, bool whole) const {
   if (mo.center_count < config_.object_moved_views) return -1;  // too few whole views to judge by
-  const double turn = std::remainder(YawModQuarter(frame_axes) - YawModQuarter(mo.axes), M_PI / 2.0);
-  if (std::abs(turn) > config_.object_moved_angle_deg * kDegToRad) return 1;
+  if (std::abs(QuarterTurn(mo.axes, frame_axes)) > config_.object_moved_angle_deg * kDegToRad) return 1;
   if (!whole) return -1;  // a partial view's centre is not where the object's is
   return (center - mo.center).norm() > config_.object_moved_distance ? 1 : 0;
 }
@@ -494,7 +489,6 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     mo.label = Vote(&mo.label_votes, fo.label, fo.height_known ? config_.decided_vote_weight : 1);
     // Dimensions: each frame axis adds to the map axis most parallel to it. A complete edge gives
     // the mean of complete observations; without any, the longest seen bounds it from below.
-    bool all_complete = true;
     for (int j = 0; j < 3; ++j) {
       int k = 0;
       (mo.axes.transpose() * frame_axes.col(j)).cwiseAbs().maxCoeff(&k);
@@ -504,12 +498,11 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
         mo.dimensions[k] = mo.complete_sum[k] / mo.complete_count[k];
         mo.dimension_complete[k] = true;
       } else {
-        all_complete = false;
         if (mo.complete_count[k] == 0) mo.dimensions[k] = std::max(mo.dimensions[k], fo.dimensions[j]);
       }
     }
     // Centre (eq. 7): the mean over views that saw every dimension whole, else over all views.
-    if (all_complete) {
+    if (whole) {
       ++mo.center_count;
       mo.center_sum += center;
     }
@@ -535,8 +528,8 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     } else if (mo.partial_center_count > 1) {
       // No face is a landmark (a moved object's faces can lie where its old faces were, which
       // they then do not update): the running mean of the views' turn about the vertical.
-      const double turn = YawModQuarter(frame_axes) - YawModQuarter(mo.axes);
-      mo.axes = Eigen::AngleAxisd(std::remainder(turn, M_PI / 2.0) / mo.partial_center_count, Eigen::Vector3d::UnitZ()) * mo.axes;
+      const double turn = QuarterTurn(mo.axes, frame_axes);
+      mo.axes = Eigen::AngleAxisd(turn / mo.partial_center_count, Eigen::Vector3d::UnitZ()) * mo.axes;
     }
     // Grasp axis: the normal of the landmark chosen as grasp side most often.
     if (fo.grasp_side >= 0 && landmark_of_plane[fo.grasp_side] >= 0) {

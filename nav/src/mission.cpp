@@ -23,7 +23,7 @@ struct MissionState {
   int object_index = -1;
   MapObject object;                                          // the target's latest estimate (world)
   Eigen::Vector2d planned_center = Eigen::Vector2d::Zero();  // where the target was at the last plan [m]
-  double planned_yaw = 0.0;                                  // its x axis's heading then [rad]
+  Eigen::Matrix3d planned_axes = Eigen::Matrix3d::Identity();  // and how it was turned
   // g chosen at the last plan; the approach keeps this face.
   Eigen::Vector2d grasp_axis = Eigen::Vector2d::UnitX();
   Pose2 pre_grasp;
@@ -52,9 +52,6 @@ std::string Format(const char* format, double a, double b = 0.0) {
   std::snprintf(text, sizeof(text), format, a, b);
   return text;
 }
-
-// The heading of an object's x axis [rad].
-double Yaw(const Eigen::Matrix3d& axes) { return std::atan2(axes(1, 0), axes(0, 0)); }
 
 void Finish(State& s, Outcome outcome, std::string reason) {
   if (outcome == Outcome::kStopped) s.robot->Stop();
@@ -131,7 +128,7 @@ void Retarget(State& s, const Pose2& from) {
   s.pre_grasp = PreGraspPose(s.object, s.grasp, toward_robot);
   s.grasp_axis = GraspFaces(s.object, toward_robot).axis;
   s.planned_center = s.object.center.head<2>();
-  s.planned_yaw = Yaw(s.object.axes);
+  s.planned_axes = s.object.axes;
   s.moved_since.reset();
 }
 
@@ -279,7 +276,7 @@ bool HandleLost(State& s, double time) {
 // progress may lead into where the object now is.
 void WatchObject(State& s, double time, const MapObject& object) {
   s.object = object;
-  const double turn = std::remainder(Yaw(object.axes) - s.planned_yaw, M_PI / 2.0);  // a box's axes: up to a quarter turn
+  const double turn = QuarterTurn(s.planned_axes, object.axes);
   if ((object.center.head<2>() - s.planned_center).norm() <= s.config.object_moved_threshold &&
       std::abs(turn) <= s.config.object_turned_threshold_deg * kDeg) {
     s.moved_since.reset();

@@ -5,6 +5,7 @@
 // voxel sample of its surface whose size is bounded by the plane's area.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -84,6 +85,12 @@ struct MapObject {
     double grasp_axis_std_deg = -1.0;                                // [deg], -1 without a grasp axis
   } uncertainty;
 };
+
+// The turn about the vertical from one box's axes to another's [rad], in [-pi/4, pi/4]: a box's
+// axes are known only up to a quarter turn.
+inline double QuarterTurn(const Eigen::Matrix3d& from, const Eigen::Matrix3d& to) {
+  return std::remainder(std::atan2(to(1, 0), to(0, 0)) - std::atan2(from(1, 0), from(0, 0)), M_PI / 2.0);
+}
 
 struct Keyframe {
   int frame = 0;
