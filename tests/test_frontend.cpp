@@ -1,6 +1,7 @@
 // The whole frontend on simulated frames with the full noise model: objects, classes, dimensions,
 // centres and grasp axes against the scene's ground truth; degenerate frames.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <set>
 
@@ -8,6 +9,7 @@
 
 #include "planemap/core/error.h"
 #include "planemap/frontend/frontend.h"
+#include "planemap/frontend/objects.h"
 #include "planemap/sim/walk.h"
 #include "sim_views.h"
 #include "test_support.h"
@@ -99,6 +101,52 @@ TEST(Frontend, BoxClassDimensionsCentreAndGraspAxisFromViewsShowingThreeFaces) {
   EXPECT_LE(Median(centre_error), 0.015) << "m";
   ASSERT_GE(axis_error_deg.size(), 30u);
   EXPECT_LE(Median(axis_error_deg), 2.0) << "deg";
+}
+
+// A tall face seen edge-on, split by the segmenter into a large part and a sliver: the edge from
+// the next face to the sliver is whole but 20 cm long, the edge to the large part runs out of the
+// image after 58 cm. The object reaches at least 58 cm up, so the short whole edge is not its
+// height (it made the hall's 2.8 m pillar a 20 cm "box" that the robot then walked into).
+TEST(Frontend, AWholeEdgeShorterThanACutOneOnTheSameAxisIsNotTheObjectsDimension) {
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const auto measure = [&](double cut_length) {
+    FrameModel model;
+    const auto add_plane = [&](const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+      DetectedPlane p;
+      p.id = static_cast<int>(model.planes.size());
+      p.plane = Plane::FromPointNormal(point, normal);
+      p.centroid = point;
+      model.planes.push_back(p);
+    };
+    add_plane({1.0, 0.0, 0.3}, {-1.0, 0.0, 0.0});                                     // west face
+    add_plane({1.2, -0.5, 0.3}, {0.0, 1.0, 0.0});                                     // north face
+    add_plane({1.05, -0.5, 0.15}, {std::sin(6.0 * M_PI / 180), 1.0, 0.0});            // its sliver
+    const auto add_edge = [&](int a, int b, double length, bool cut) {
+      PlaneEdge e;
+      e.plane_a = a;
+      e.plane_b = b;
+      e.start = {1.0, -0.5, 0.06};
+      e.end = e.start + length * up;
+      e.direction = up;
+      e.length = length;
+      e.end_cut = cut;
+      model.edges.push_back(e);
+    };
+    add_edge(0, 1, cut_length, true);
+    add_edge(0, 2, 0.20, false);
+    FrameObject object;
+    object.planes = {0, 1, 2};
+    model.objects.push_back(object);
+    MeasureObjects(Cloud(), ObjectConfig{}, up, &model);
+    return model.objects[0];
+  };
+  const FrameObject pillar = measure(0.58);
+  EXPECT_NEAR(pillar.dimensions[2] * 100.0, 58.0, 1e-9);
+  EXPECT_FALSE(pillar.dimension_complete[2]);
+  // A cut edge longer only by noise (1 cm, within edge_length_tolerance 3 cm): the whole edge stands.
+  const FrameObject box = measure(0.21);
+  EXPECT_NEAR(box.dimensions[2] * 100.0, 20.0, 1e-9);
+  EXPECT_TRUE(box.dimension_complete[2]);
 }
 
 TEST(Frontend, DegenerateFramesGiveAnEmptyOrPartialModelAndAReason) {

@@ -21,44 +21,90 @@ MapObject DefaultBox(const Eigen::Vector3d& dimensions = {0.25, 0.35, 0.25}) {
 
 const Eigen::Vector2d kTowardStart(-1.0, 0.0);
 
-TEST(Grasp, PreGraspPoseOfTheDefaultBox) {
+// The default box grasped across its 35 cm from its +x face: a grasp point at standoff s is
+// (s, 17.5, 12.5) cm in the base frame, its shoulder at (5, 10, 26) cm. Facing the box squarely the
+// hand reaches it up to s = 5 + sqrt(26.5^2 - 7.5^2 - 13.5^2) = 26.53 cm; turned 5 deg (the band's
+// heading tolerance) the far hand swings out and the limit is 25.78 cm (solved by hand, by
+// bisection on the rotated points). The toes keep the base 12.5 + 9 = 21.5 cm from the centre.
+constexpr double kNear = 0.215;
+constexpr double kFar = 0.2578;
+
+Pose2 AtStandoff(const MapObject& box, double standoff, double turn_deg) {
+  const Eigen::Vector2d g(std::cos(215.0 * kDeg), std::sin(215.0 * kDeg));
+  const Eigen::Vector2d p = box.center.head<2>() + standoff * g;
+  return {p.x(), p.y(), (35.0 + turn_deg) * kDeg};
+}
+
+TEST(Grasp, TheDefaultBoxsStandoffBand) {
   const MapObject box = DefaultBox();
-  const GraspConfig config;
-  const Pose2 pose = PreGraspPose(box, config, kTowardStart);
-  // 23.5 cm out of the +x face's centre line, facing the box: heading 215 - 180 = 35 deg.
-  EXPECT_NEAR(pose.x, 2.1 + 0.235 * std::cos(215.0 * kDeg), 1e-9);
-  EXPECT_NEAR(pose.y, 0.1 + 0.235 * std::sin(215.0 * kDeg), 1e-9);
-  EXPECT_NEAR(pose.theta / kDeg, 35.0, 1e-9);
+  GraspConfig config;
   const GraspGeometry faces = GraspFaces(box, kTowardStart);
   EXPECT_NEAR(faces.width * 100.0, 35.0, 1e-9);
   EXPECT_NEAR(faces.depth * 100.0, 25.0, 1e-9);
-  // The near face 11 cm ahead of the base origin: at least body_clearance (toes 8 cm, a 3 cm gap).
-  EXPECT_NEAR((0.235 - 0.5 * faces.depth) * 100.0, 11.0, 1e-9);
-  EXPECT_GE((0.235 - 0.5 * faces.depth), config.body_clearance);
+  const StandoffBand band = GraspBand(box, faces, config);
+  EXPECT_NEAR(band.near * 100.0, kNear * 100.0, 1e-9);
+  EXPECT_NEAR(band.far * 100.0, kFar * 100.0, 0.01);
+  // The far end is where the grasp check, turned 5 deg, starts failing.
+  for (double turn : {-5.0, 5.0}) {
+    EXPECT_TRUE(CheckGrasp(box, AtStandoff(box, band.far - 1e-4, turn), config).ok);
+    EXPECT_FALSE(CheckGrasp(box, AtStandoff(box, band.far + 1e-3, turn), config).ok);
+  }
+  EXPECT_TRUE(CheckGrasp(box, AtStandoff(box, band.far + 5e-3, 0.0), config).ok);
+  config.heading_tolerance_deg = 0.0;
+  const double square = 0.05 + std::sqrt(0.265 * 0.265 - 0.075 * 0.075 - 0.135 * 0.135);
+  EXPECT_NEAR(GraspBand(box, faces, config).far * 100.0, square * 100.0, 1e-6);
+}
+
+TEST(Grasp, PreGraspPoseOfTheDefaultBox) {
+  const MapObject box = DefaultBox();
+  const GraspConfig config;
+  const Eigen::Vector2d side = ChooseGraspSide(box, config, kTowardStart);
+  EXPECT_NEAR(side.x(), std::cos(215.0 * kDeg), 1e-9);
+  EXPECT_NEAR(side.y(), std::sin(215.0 * kDeg), 1e-9);
+  const Pose2 pose = PreGraspPose(box, config, side);
+  // In the band's middle out of the +x face's centre line, facing the box: heading 215 - 180 = 35 deg.
+  const double standoff = 0.5 * (kNear + kFar);
+  EXPECT_NEAR(pose.x, 2.1 + standoff * std::cos(215.0 * kDeg), 1e-4);
+  EXPECT_NEAR(pose.y, 0.1 + standoff * std::sin(215.0 * kDeg), 1e-4);
+  EXPECT_NEAR(pose.theta / kDeg, 35.0, 1e-9);
+  // The near face 11.1 cm ahead of the base origin: the toes (8 cm) 3.1 cm clear.
+  EXPECT_NEAR((standoff - 0.125) * 100.0, 11.14, 0.01);
   // Grasp points on the side faces, at the centre's height, left of the robot on its left.
   const GraspCheck check = CheckGrasp(box, pose, config);
   EXPECT_TRUE(check.ok) << check.reason;
-  EXPECT_NEAR(check.left_point.x() * 100.0, 23.5, 1e-6);
+  EXPECT_NEAR(check.left_point.x() * 100.0, standoff * 100.0, 0.01);
   EXPECT_NEAR(check.left_point.y() * 100.0, 17.5, 1e-6);
   EXPECT_NEAR(check.right_point.y() * 100.0, -17.5, 1e-6);
   EXPECT_NEAR(check.left_point.z() * 100.0, 12.5, 1e-6);
   EXPECT_NEAR(check.left_distance, check.right_distance, 1e-9);
-  EXPECT_NEAR((faces.left - box.center).norm() * 100.0, 17.5, 1e-9);
+  EXPECT_NEAR(check.left_distance * 100.0, 100.0 * std::hypot(standoff - 0.05, 0.075, 0.135), 0.01);
 }
 
-TEST(Grasp, WithoutAGraspAxisTheSideFacingTheRobotIsUsed) {
-  MapObject box = DefaultBox();
-  box.has_grasp_axis = false;
+TEST(Grasp, OfTheSidesFacingTheRobotTheOneWithTheWidestBandIsChosen) {
   const GraspConfig config;
-  const Pose2 same = PreGraspPose(box, config, kTowardStart);
-  EXPECT_NEAR(same.theta / kDeg, 35.0, 1e-9);
-  // From +y the box's -y face is nearest; 35 cm deep that way: body clearance sets the standoff.
-  const Pose2 side = PreGraspPose(box, config, {0.0, 1.0});
-  EXPECT_NEAR(WrapAngle(side.theta) / kDeg, WrapAngle((215.0 - 90.0 - 180.0) * kDeg) / kDeg, 1e-9);
-  EXPECT_NEAR((side.Position() - box.center.head<2>()).norm() * 100.0,
-              (0.175 + config.body_clearance) * 100.0, 1e-9);
-  EXPECT_NEAR(GraspFaces(box, {0.0, 1.0}).width * 100.0, 25.0, 1e-9);
-  EXPECT_TRUE(CheckGrasp(box, side, config).ok) << CheckGrasp(box, side, config).reason;
+  const MapObject box = DefaultBox();
+  // From +y the box's -y face is nearest, but the box is 35 cm deep that way: the band from the
+  // toes (17.5 + 9 = 26.5 cm) to the reach (5 + sqrt(26.5^2 - 2.5^2 - 13.5^2) = 27.67 cm) is 1.2 cm
+  // wide (0.4 cm turned 5 deg). Its -x face also faces +y and leaves 4.3 cm: the robot grasps from there.
+  const GraspGeometry deep = GraspFaces(box, {0.0, 1.0});
+  EXPECT_NEAR(deep.depth * 100.0, 35.0, 1e-9);
+  EXPECT_NEAR(GraspBand(box, deep, config).Width() * 100.0, 0.4, 0.1);
+  const Eigen::Vector2d side = ChooseGraspSide(box, config, {0.0, 1.0});
+  EXPECT_NEAR(side.x(), std::cos(35.0 * kDeg), 1e-9);
+  EXPECT_NEAR(side.y(), std::sin(35.0 * kDeg), 1e-9);
+  const Pose2 pose = PreGraspPose(box, config, side);
+  EXPECT_NEAR(WrapAngle(pose.theta) / kDeg, WrapAngle(215.0 * kDeg) / kDeg, 1e-9);
+  EXPECT_TRUE(CheckGrasp(box, pose, config).ok) << CheckGrasp(box, pose, config).reason;
+}
+
+TEST(Grasp, WithoutAGraspableSideTheFrontendsAxisIsKeptAndTheCheckSaysWhy) {
+  const GraspConfig config;
+  MapObject huge = DefaultBox({0.50, 0.50, 0.25});
+  const Eigen::Vector2d side = ChooseGraspSide(huge, config, {0.0, 1.0});
+  EXPECT_NEAR(side.dot(huge.grasp_axis.head<2>()), 1.0, 1e-9);
+  const GraspCheck check = CheckGrasp(huge, PreGraspPose(huge, config, side), config);
+  EXPECT_FALSE(check.ok);
+  EXPECT_NE(check.reason.find("wider than hand_span_max"), std::string::npos) << check.reason;
 }
 
 // The robot off its pre-grasp pose by `offset` [m] in its own frame, in 8 directions, turned.
@@ -79,8 +125,8 @@ TEST_P(GraspNear, PassesWithinFewCentimetresAndFiveDegrees) {
     }
   }
 }
-// Standing 3 cm clear of the box costs reach: 3 cm farther back and turned 5 deg, a hand needs
-// 27 cm (reach_max 26.5 cm).
+// The band is 4.3 cm deep for a robot turned 5 deg and the pose in its middle: 2 cm off either way
+// holds, turned or not.
 INSTANTIATE_TEST_SUITE_P(Offsets, GraspNear, ::testing::Values(0.0, 0.01, 0.02));
 
 class GraspFar : public ::testing::TestWithParam<double> {};

@@ -44,6 +44,7 @@ class FakeHumanoid : public Humanoid {
     const Pose2 landed{dx * (1.0 + error_.scale) + error_.noise_xy * d * n(rng_),
                        dy + error_.lateral * d + error_.noise_xy * d * n(rng_),
                        dtheta + error_.turn * d + error_.noise_turn * (d + std::abs(dtheta)) * n(rng_)};
+    odometry_ = Compose(odometry_, Pose2{dx, dy, dtheta});
     from_ = pose_;
     to_ = Compose(pose_, landed);
     duration_ = std::max({d / 0.1, std::abs(landed.theta) / 0.5, 0.2});
@@ -52,6 +53,8 @@ class FakeHumanoid : public Humanoid {
   }
   void Stop() override { walking_ = false; }
   bool IsWalking() const override { return walking_; }
+  // The commands summed (the mission does not read odometry).
+  Pose2 OdometryPose() const override { return odometry_; }
 
   void Advance(double dt) {
     if (!walking_) return;
@@ -64,7 +67,7 @@ class FakeHumanoid : public Humanoid {
   const Pose2& TruePose() const { return pose_; }
 
  private:
-  Pose2 pose_, from_, to_;
+  Pose2 pose_, from_, to_, odometry_;
   WalkError error_;
   std::mt19937 rng_;
   double duration_ = 0.0, elapsed_ = 0.0;

@@ -171,7 +171,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
       const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
       const FrameModel model = frontend.Process(*cloud);
       const auto t2 = Clock::now();
-      const TrackResult tracked = tracker.Track(model, *cloud, t);
+      const TrackResult tracked =
+          tracker.Track(model, *cloud, t, nav::NominalCameraPose(robot.OdometryPose(), config.humanoid));
       const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
       const auto t3 = Clock::now();
       run.render_ms.push_back(Ms(t0, t1));
@@ -236,14 +237,20 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
   if (!run.planned || !target_truth) return run;
 
   // Scores against ground truth: where the robot should stand for the face it chose.
-  const MapObject& estimated = tracker.map().objects[target];
-  const Eigen::Vector2d g = nav::GraspFaces(estimated, start.Position() - estimated.center.head<2>()).axis;
-  const Eigen::Vector3d grasp_axis(g.x(), g.y(), 0.0);
-  const MapObject truth_object = TrueObject(*target_truth, grasp_axis);
+  const Eigen::Vector2d g = mission.GraspSide();
+  const MapObject truth_object = TrueObject(*target_truth, Eigen::Vector3d(g.x(), g.y(), 0.0));
   const nav::Pose2 final_pose = robot.TruePose();
-  run.pregrasp_true = nav::PreGraspPose(truth_object, config.grasp, (final_pose.Position() - truth_object.center.head<2>()));
+  run.pregrasp_true = nav::PreGraspPose(truth_object, config.grasp, truth_object.grasp_axis.head<2>());
   run.position_error = (final_pose.Position() - run.pregrasp_true.Position()).norm();
   run.heading_error = std::abs(nav::WrapAngle(final_pose.theta - run.pregrasp_true.theta));
+  const MapObject& estimated = tracker.map().objects[target];
+  const nav::GraspGeometry faces = nav::GraspFaces(estimated, g);
+  const nav::GraspGeometry true_faces = nav::GraspFaces(truth_object, g);
+  run.object_center_error = (estimated.center - truth_object.center).norm();
+  run.object_depth = faces.depth;
+  run.object_depth_true = true_faces.depth;
+  run.object_width = faces.width;
+  run.object_width_true = true_faces.width;
   const nav::GraspCheck check = nav::CheckGrasp(truth_object, final_pose, config.grasp);
   run.grasp_ok = check.ok;
   run.grasp_reason = check.reason;

@@ -71,6 +71,9 @@ void PrintRun(const ApproachOptions& o, const ApproachRun& r) {
   std::printf("  average error %.1f cm; pre-grasp error: position %.1f cm, heading %.1f deg; grasp check: %s; collisions: %s\n",
               100 * r.average_error, 100 * r.position_error, r.heading_error * kRadToDeg,
               r.grasp_ok ? "ok" : ("failed: " + r.grasp_reason).c_str(), r.collided ? r.collision.c_str() : "none");
+  std::printf("  %s estimate at the end: centre %.1f cm off; along the grasp axis %.1f cm deep (true %.1f), %.1f cm across (true %.1f)\n",
+              r.target.c_str(), 100 * r.object_center_error, 100 * r.object_depth, 100 * r.object_depth_true,
+              100 * r.object_width, 100 * r.object_width_true);
   PrintTiming(r, o.rate);
 }
 
@@ -220,7 +223,10 @@ int RunApproach(const ApproachCommandOptions& options) {
     s["runs"].push_back({{"seed", r.seed}, {"planned", r.planned}, {"reached", r.status.Reached()}, {"reason", r.status.reason},
                          {"average_error_m", r.average_error}, {"pregrasp_position_error_m", r.position_error},
                          {"pregrasp_heading_error_rad", r.heading_error}, {"grasp_ok", r.grasp_ok}, {"collided", r.collided},
-                         {"collision", r.collision}, {"duration_s", r.duration}});
+                         {"collision", r.collision}, {"duration_s", r.duration},
+                         {"object_center_error_m", r.object_center_error}, {"object_depth_m", r.object_depth},
+                         {"object_depth_true_m", r.object_depth_true}, {"object_width_m", r.object_width},
+                         {"object_width_true_m", r.object_width_true}});
   }
   auto row = [&](const char* name, std::vector<double>* v, double scale) {
     std::printf("  %-36s", name);

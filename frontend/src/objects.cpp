@@ -153,7 +153,10 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
     object.axes.col(1) = up.cross(x);
     object.axes.col(2) = up;
 
-    // 2. Dimensions: the longest edge along each axis, complete edges first.
+    // 2. Dimensions: the longest edge along each axis, complete edges first, unless an edge cut
+    //    by the image or an occluder is longer by more than edge_length_tolerance: the object
+    //    then reaches at least that far, and the complete edge (a face split in two, say) is not
+    //    its whole extent.
     std::set<int> members(object.planes.begin(), object.planes.end());
     if (model->floor >= 0) members.insert(model->floor);
     object.dimensions.setZero();
@@ -164,16 +167,24 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
       }
       return -1;
     };
+    Eigen::Vector3d longest_cut = Eigen::Vector3d::Zero();
     for (const PlaneEdge& e : model->edges) {
       if (!members.count(e.plane_a) || !members.count(e.plane_b)) continue;
       if (e.plane_a == model->floor && e.plane_b == model->floor) continue;
       const int k = axis_of(e.direction);
       if (k < 0) continue;
+      if (!e.Complete()) longest_cut[k] = std::max(longest_cut[k], e.length);
       const bool better = e.Complete() ? (!object.dimension_complete[k] || e.length > object.dimensions[k])
                                        : (!object.dimension_complete[k] && e.length > object.dimensions[k]);
       if (better) {
         object.dimensions[k] = e.length;
         object.dimension_complete[k] = e.Complete();
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (object.dimension_complete[k] && longest_cut[k] > object.dimensions[k] + config.edge_length_tolerance) {
+        object.dimensions[k] = longest_cut[k];
+        object.dimension_complete[k] = false;
       }
     }
 

@@ -53,9 +53,11 @@ Tracker::Tracker(const TrackingConfig& config, const Pose3& T_world_first) : con
   }
 }
 
-Pose3 Tracker::Predict(double stamp) const {
+Pose3 Tracker::Predict(double stamp, const std::optional<Pose3>& T_odometry_camera) const {
   if (history_.empty()) return T_world_first_;
   const auto& [t1, T1] = history_.back();
+  // Odometry: its motion since the last accepted pose, in that pose's camera frame.
+  if (T_odometry_camera && odometry_at_last_) return T1 * (odometry_at_last_->inverse() * *T_odometry_camera);
   if (history_.size() < 2) return T1;
   // Constant velocity over the window: the mean motion per second since its oldest pose,
   // applied in the camera frame for the time since the last tracked pose.
@@ -122,7 +124,8 @@ std::optional<Eigen::Matrix3d> Tracker::SolveRotation(const std::vector<Candidat
   return RotationFromCorrelation(H);
 }
 
-TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double stamp) {
+TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double stamp,
+                           const std::optional<Pose3>& T_odometry_camera) {
   const int frame = frame_++;
   TrackResult result;
   // The frame's planes large and near enough to track, with their inlier moments and boxes.
@@ -146,7 +149,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   }
   result.planes = static_cast<int>(observed.size());
 
-  const Pose3 predicted = Predict(stamp);
+  const Pose3 predicted = Predict(stamp, T_odometry_camera);
   result.T_predicted = predicted;
   Pose3 T = predicted;
   Pose3 prior = predicted;  // what the refinement falls back on where no plane fixes the pose
@@ -339,6 +342,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   }
   // The motion model remembers tracked and degraded poses: what their planes fix is measured.
   history_.emplace_back(stamp, T);
+  odometry_at_last_ = T_odometry_camera;
   while (history_.size() > 2 && history_.back().first - history_[1].first >= config_.velocity_window) history_.pop_front();
   if (result.status == TrackStatus::kTracked) last_tracked_stamp_ = stamp;
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "planemap/nav/planner.h"
 
@@ -59,13 +60,10 @@ std::string ReachProblem(const char* side, const Eigen::Vector3d& point, double 
 
 }  // namespace
 
-GraspGeometry GraspFaces(const MapObject& object, const Eigen::Vector2d& toward_robot) {
+GraspGeometry GraspFaces(const MapObject& object, const Eigen::Vector2d& side) {
   const Footprint footprint = FootprintOf(object);
-  const Eigen::Vector2d horizontal = object.grasp_axis.head<2>();
   GraspGeometry geometry;
-  geometry.axis = object.has_grasp_axis && horizontal.norm() >= kMinHorizontal * object.grasp_axis.norm()
-                      ? Eigen::Vector2d(horizontal.normalized())
-                      : ClosestSide(footprint, toward_robot);
+  geometry.axis = ClosestSide(footprint, side);
   const int along =
       std::abs(geometry.axis.dot(footprint.axes.col(0))) >= std::abs(geometry.axis.dot(footprint.axes.col(1)))
           ? 0
@@ -81,9 +79,80 @@ GraspGeometry GraspFaces(const MapObject& object, const Eigen::Vector2d& toward_
   return geometry;
 }
 
-Pose2 PreGraspPose(const MapObject& object, const GraspConfig& config, const Eigen::Vector2d& toward_robot) {
-  const GraspGeometry geometry = GraspFaces(object, toward_robot);
-  const double standoff = std::max(config.standoff, 0.5 * geometry.depth + config.body_clearance);
+StandoffBand GraspBand(const MapObject& object, const GraspGeometry& faces, const GraspConfig& config) {
+  // A grasp point at standoff s is (s, +-width/2, centre height) in the base frame; its shoulder
+  // is at (shoulder_forward, +-shoulder_lateral, shoulder_height). The hand reaches it when
+  // reach_min <= |point - shoulder| <= reach_max, and the point is ahead of the shoulder.
+  const double half_width = 0.5 * faces.width;
+  const double vertical = object.center.z() - config.shoulder_height;
+  const double lateral = half_width - config.shoulder_lateral;
+  StandoffBand band;
+  const double near_reach = config.reach_min * config.reach_min - lateral * lateral - vertical * vertical;
+  band.near = std::max(0.5 * faces.depth + config.body_clearance,
+                       config.shoulder_forward + std::sqrt(std::max(0.0, near_reach)));
+  // Far: both hands still reach with the robot turned by up to heading_tolerance either way. The
+  // reach grows with s beyond the shoulders, so bisect between the near end and past any reach.
+  const double tolerance = config.heading_tolerance_deg * M_PI / 180.0;
+  const auto reaches = [&](double s) {
+    for (double turn : {-tolerance, 0.0, tolerance}) {
+      for (double side : {1.0, -1.0}) {
+        const double x = s * std::cos(turn) + side * half_width * std::sin(turn);
+        const double y = -s * std::sin(turn) + side * half_width * std::cos(turn);
+        const Eigen::Vector3d offset(x - config.shoulder_forward, std::abs(y) - config.shoulder_lateral, vertical);
+        if (x <= config.shoulder_forward || offset.norm() > config.reach_max) return false;
+      }
+    }
+    return true;
+  };
+  if (!reaches(band.near)) {
+    band.far = -std::numeric_limits<double>::infinity();
+    return band;
+  }
+  double lo = band.near, hi = config.shoulder_forward + config.reach_max + half_width;
+  for (int k = 0; k < 50; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (reaches(mid) ? lo : hi) = mid;
+  }
+  band.far = lo;
+  return band;
+}
+
+Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& config,
+                                const Eigen::Vector2d& toward_robot) {
+  const Footprint footprint = FootprintOf(object);
+  const Eigen::Vector2d toward = toward_robot.norm() > 1e-9 ? Eigen::Vector2d(toward_robot.normalized())
+                                                            : Eigen::Vector2d(footprint.axes.col(0));
+  // Best feasible side facing the robot [0] and of all [1]: its axis and band width.
+  Eigen::Vector2d best[2];
+  double best_width[2] = {-1.0, -1.0};
+  for (int s = 0; s < 2; ++s) {
+    for (double sign : {1.0, -1.0}) {
+      const Eigen::Vector2d side = sign * footprint.axes.col(s);
+      const GraspGeometry faces = GraspFaces(object, side);
+      if (faces.width < config.hand_span_min || faces.width > config.hand_span_max) continue;
+      const StandoffBand band = GraspBand(object, faces, config);
+      if (band.Empty()) continue;
+      for (int k = 0; k < 2; ++k) {
+        if (k == 0 && side.dot(toward) <= 0.0) continue;
+        if (band.Width() > best_width[k] + 1e-9) {
+          best_width[k] = band.Width();
+          best[k] = side;
+        }
+      }
+    }
+  }
+  for (int k = 0; k < 2; ++k)
+    if (best_width[k] >= 0.0) return best[k];
+  const Eigen::Vector2d horizontal = object.grasp_axis.head<2>();
+  if (object.has_grasp_axis && horizontal.norm() >= kMinHorizontal * object.grasp_axis.norm())
+    return ClosestSide(footprint, horizontal);
+  return ClosestSide(footprint, toward);
+}
+
+Pose2 PreGraspPose(const MapObject& object, const GraspConfig& config, const Eigen::Vector2d& side) {
+  const GraspGeometry geometry = GraspFaces(object, side);
+  const StandoffBand band = GraspBand(object, geometry, config);
+  const double standoff = band.Empty() ? band.near : band.Middle();
   const Eigen::Vector2d p = object.center.head<2>() + standoff * geometry.axis;
   return {p.x(), p.y(), std::atan2(-geometry.axis.y(), -geometry.axis.x())};
 }

@@ -91,9 +91,7 @@ bool Clamp(const MissionConfig& config, Pose2* command) {
 // The grid's target follows the estimate too: the approach legs are checked against the object
 // as now seen (its footprint is exact in the grid, so moving it costs nothing).
 Pose2 TrackObject(State& s) {
-  MapObject same_face = s.object;
-  same_face.has_grasp_axis = false;
-  const Pose2 goal = PreGraspPose(same_face, s.grasp, s.grasp_axis);
+  const Pose2 goal = PreGraspPose(s.object, s.grasp, s.grasp_axis);
   s.grid.target_footprint = FootprintOf(s.object);
   s.grid.target.pre_grasp = goal;
   return goal;
@@ -125,8 +123,8 @@ void Retarget(State& s, const Pose2& from) {
   planned = s.object;
   planned.landmarks = faces;
   const Eigen::Vector2d toward_robot = from.Position() - s.object.center.head<2>();
-  s.pre_grasp = PreGraspPose(s.object, s.grasp, toward_robot);
-  s.grasp_axis = GraspFaces(s.object, toward_robot).axis;
+  s.grasp_axis = ChooseGraspSide(s.object, s.grasp, toward_robot);
+  s.pre_grasp = PreGraspPose(s.object, s.grasp, s.grasp_axis);
   s.planned_center = s.object.center.head<2>();
   s.planned_axes = s.object.axes;
   s.moved_since.reset();
@@ -370,6 +368,8 @@ const std::vector<ControlPointRecord>& Mission::Records() const { return state_-
 const std::vector<Pose2>& Mission::ReferencePath() const { return state_->path; }
 const std::vector<Pose2>& Mission::ControlPoints() const { return state_->control_points; }
 Pose2 Mission::PreGraspTarget() const { return state_->pre_grasp; }
+
+Eigen::Vector2d Mission::GraspSide() const { return state_->grasp_axis; }
 const OccupancyGrid& Mission::Grid() const { return state_->grid; }
 int Mission::Replans() const { return state_->replans; }
 

@@ -9,6 +9,19 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
+// The camera on a head leaning by (lateral, vertical) [m] and (roll, yaw) [rad] over a base pose.
+Pose3 HeadCamera(const Pose2& base, const HumanoidConfig& config, double lateral, double vertical, double roll,
+                 double yaw) {
+  const Pose3 T_base_head =
+      MakePoseRpy(roll, config.camera_pitch_deg * kDegToRad, yaw,
+                  Eigen::Vector3d(config.camera_forward_offset, lateral, config.camera_height + vertical));
+  Pose3 T_world_camera = ToPose3(base) * T_base_head;
+  T_world_camera.linear() = T_world_camera.linear() * RotationBodyFromOptical();
+  return T_world_camera;
+}
+
+
+
 // sin(a) / a, stable near 0.
 double Sinc(double a) { return std::abs(a) < 1e-6 ? 1.0 - a * a / 6.0 : std::sin(a) / a; }
 
@@ -120,12 +133,11 @@ Pose3 SimulatedHumanoid::CameraPose() const {
     roll = -config_.sway_roll_deg * kDegToRad * lean;  // leaning left lifts the right side
     yaw = config_.sway_yaw_deg * kDegToRad * lean;
   }
-  const Pose3 T_base_head =
-      MakePoseRpy(roll, config_.camera_pitch_deg * kDegToRad, yaw,
-                  Eigen::Vector3d(config_.camera_forward_offset, lateral, config_.camera_height + vertical));
-  Pose3 T_world_camera = ToPose3(TruePose()) * T_base_head;
-  T_world_camera.linear() = T_world_camera.linear() * RotationBodyFromOptical();
-  return T_world_camera;
+  return HeadCamera(TruePose(), config_, lateral, vertical, roll, yaw);
+}
+
+Pose3 NominalCameraPose(const Pose2& base, const HumanoidConfig& config) {
+  return HeadCamera(base, config, 0.0, 0.0, 0.0, 0.0);
 }
 
 void SimulatedHumanoid::StartNextStep(double start_time) {

@@ -50,6 +50,11 @@ struct ApproachRun {
   double average_error = 0.0;           // mean of truth_to_path over the stops [m]
   double position_error = 0.0;          // final true position to the true pre-grasp position [m]
   double heading_error = 0.0;           // final true heading to the true pre-grasp heading [rad]
+  // The target's map estimate at the end against the true object: centre, and the extents along
+  // the grasp axis (depth) and across it (width), estimated and true [m].
+  double object_center_error = 0.0;
+  double object_depth = 0.0, object_depth_true = 0.0;
+  double object_width = 0.0, object_width_true = 0.0;
   bool grasp_ok = false;                // the grasp check at the final true pose on the true box
   std::string grasp_reason;
   bool collided = false;                // the true footprint touched an object

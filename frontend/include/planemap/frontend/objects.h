@@ -55,6 +55,8 @@ struct ObjectConfig {
   double hand_span_min = 0.10;              // a two-handed grasp holds objects this wide ... [m]
   double hand_span_max = 0.40;              // ... up to this wide, across the held sides [m]
   double grasp_max_height = 0.60;           // and up to this tall [m]
+  double edge_length_tolerance = 0.03;      // a complete edge this much shorter than a cut one along
+                                            // the same axis is not the object's whole dimension [m]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -63,6 +65,7 @@ struct ObjectConfig {
     v("hand_span_min", hand_span_min, Check::kNonNegative);
     v("hand_span_max", hand_span_max, Check::kPositive);
     v("grasp_max_height", grasp_max_height, Check::kPositive);
+    v("edge_length_tolerance", edge_length_tolerance, Check::kNonNegative);
   }
 };
 

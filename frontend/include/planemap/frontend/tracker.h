@@ -156,7 +156,13 @@ class Tracker {
   explicit Tracker(const TrackingConfig& config, const Pose3& T_world_first = Pose3::Identity());
 
   // Tracks one frame (its model's planes index into `cloud`) and merges it into the map.
-  TrackResult Track(const FrameModel& model, const Cloud& cloud, double stamp);
+  // `T_odometry_camera`, when the platform has odometry (a walking robot's dead reckoning carried
+  // to its camera), is the camera pose in the odometry's own drifting frame at `stamp`: the
+  // prediction is then the last accepted pose moved by the odometry's motion since it, instead
+  // of constant velocity. Where the matched planes fix the pose it is measured; where they do
+  // not (one wall and the floor, say) it follows the odometry, which knows when the robot stands.
+  TrackResult Track(const FrameModel& model, const Cloud& cloud, double stamp,
+                    const std::optional<Pose3>& T_odometry_camera = std::nullopt);
 
   const PlaneMap& map() const { return map_; }
   int frames() const { return frame_; }
@@ -165,7 +171,7 @@ class Tracker {
 
  private:
   struct Observation;  // a frame plane in the world under a pose
-  Pose3 Predict(double stamp) const;
+  Pose3 Predict(double stamp, const std::optional<Pose3>& T_odometry_camera) const;
   struct Candidate {
     int observation, landmark;
     double score;  // angle / gate + distance / gate: lower is better
@@ -198,6 +204,7 @@ class Tracker {
   std::vector<FrameObservations> observations_;
   std::vector<std::unordered_set<long long>> voxels_;  // per landmark: the voxels it holds
   std::deque<std::pair<double, Pose3>> history_;        // tracked and degraded poses within velocity_window
+  std::optional<Pose3> odometry_at_last_;               // the odometry's camera pose at history_.back()
   int frame_ = 0;
   int blind_run_ = 0;                    // frames in a row whose rotation was not measured
   double last_tracked_stamp_ = 0.0;

@@ -5,6 +5,12 @@
 //
 // Arm model: a small humanoid (Nao-like) crouched in front of an object on the floor, its torso
 // leaning forward; each hand reaches a shell around its shoulder. World z = 0 is the floor.
+//
+// Where to stand has no free parameter: along the grasp axis, the base may stand no nearer than
+// the object's near face plus body_clearance (the toes) and no farther than where a hand still
+// reaches its grasp point, even turned by a few degrees. The robot aims at the middle of that band, so an error toward the object
+// and one away from it are tolerated alike, and of the object's sides it grasps from the one,
+// facing it, whose band is widest.
 #include <Eigen/Core>
 #include <string>
 
@@ -15,7 +21,6 @@
 namespace planemap::nav {
 
 struct GraspConfig {
-  double standoff = 0.235;         // base origin to the line through the grasp points; arm's reach [m]
   double body_clearance = 0.09;    // base origin to the object's near face, at least: toes (8 cm) + gap [m]
   double shoulder_forward = 0.05;  // shoulder joints ahead of the base origin (leaning torso) [m]
   double shoulder_lateral = 0.10;  // each shoulder to the side of the base origin [m]
@@ -24,10 +29,10 @@ struct GraspConfig {
   double reach_max = 0.265;        // ... farthest [m]
   double hand_span_min = 0.10;     // narrowest object across the grasp points [m]
   double hand_span_max = 0.40;     // widest [m]
+  double heading_tolerance_deg = 5.0;  // the standoff band keeps the grasp with the robot turned this much [deg]
 
   template <class V>
   void VisitFields(V&& v) {
-    v("standoff", standoff, Check::kPositive);
     v("body_clearance", body_clearance, Check::kNonNegative);
     v("shoulder_forward", shoulder_forward, Check::kAny);
     v("shoulder_lateral", shoulder_lateral, Check::kNonNegative);
@@ -36,6 +41,7 @@ struct GraspConfig {
     v("reach_max", reach_max, Check::kPositive);
     v("hand_span_min", hand_span_min, Check::kNonNegative);
     v("hand_span_max", hand_span_max, Check::kPositive);
+    v("heading_tolerance_deg", heading_tolerance_deg, Check::kNonNegative);
   }
 };
 
@@ -48,13 +54,33 @@ struct GraspGeometry {
   Eigen::Vector3d right = Eigen::Vector3d::Zero();  // seen by a robot facing -g [m]
 };
 
-// The object's grasp axis made horizontal, or without one (or a vertical one) the horizontal box
-// axis, of +-x and +-y, closest to `toward_robot` (world xy, from the object toward the robot).
-GraspGeometry GraspFaces(const MapObject& object, const Eigen::Vector2d& toward_robot);
+// The faces of the footprint side, of +-x and +-y, closest to `side` (world xy).
+GraspGeometry GraspFaces(const MapObject& object, const Eigen::Vector2d& side);
 
-// Where the robot stands to grasp: centre_xy + g * max(standoff, depth / 2 + body_clearance),
-// facing -g (the camera's main axis along the grasp axis).
-Pose2 PreGraspPose(const MapObject& object, const GraspConfig& config, const Eigen::Vector2d& toward_robot);
+// The standoffs (object centre to base origin, along the grasp axis) from which the robot can grasp
+// those faces: near = the toes' clearance (or reach_min), far = where a hand, with the robot turned
+// by heading_tolerance_deg, is at reach_max [m]. Empty if far < near.
+struct StandoffBand {
+  double near = 0.0;
+  double far = 0.0;
+  bool Empty() const { return far < near; }
+  double Width() const { return far - near; }
+  double Middle() const { return 0.5 * (near + far); }
+};
+StandoffBand GraspBand(const MapObject& object, const GraspGeometry& faces, const GraspConfig& config);
+
+// The side to grasp from, as a unit world xy axis out of that face: of the sides whose width fits
+// the hand span and whose standoff band is not empty, the one with the widest band among those
+// facing the robot (`toward_robot`, from the object toward the robot), else among all. Without
+// any such side: the object's grasp axis from the frontend if horizontal, else the side closest to
+// the robot, and the grasp check will say why it fails.
+Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& config,
+                                const Eigen::Vector2d& toward_robot);
+
+// Where the robot stands to grasp from the side closest to `side`: centre_xy + g * the middle of
+// the standoff band (its near end if the band is empty), facing -g (the camera's main axis along
+// the grasp axis).
+Pose2 PreGraspPose(const MapObject& object, const GraspConfig& config, const Eigen::Vector2d& side);
 
 struct GraspCheck {
   bool ok = false;
@@ -68,8 +94,9 @@ struct GraspCheck {
 
 // Whether the robot at `robot` can grasp the object: the width within the hand span, and each
 // grasp point ahead of the shoulders and inside its arm's reach shell [reach_min, reach_max]
-// around its shoulder. Defaults: the default scene's box (grasped across its 0.35 m) passes with
-// the robot up to 3.5 cm and 5 deg off its pre-grasp pose, and fails from 10 cm off.
+// around its shoulder; the faces are the side the robot stands at. Defaults: the default scene's box
+// (grasped across its 0.35 m) passes with the robot up to 2 cm and 5 deg off its pre-grasp pose,
+// and fails from 10 cm off.
 GraspCheck CheckGrasp(const MapObject& object, const Pose2& robot, const GraspConfig& config);
 
 }  // namespace planemap::nav

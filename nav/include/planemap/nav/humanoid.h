@@ -2,6 +2,7 @@
 // The humanoid motion model interface: a relative walk command, as Nao's ALMotion::moveTo.
 // A real robot implements the same interface; SimulatedHumanoid (simulated_humanoid.h)
 // walks it as noisy footsteps.
+#include "planemap/nav/pose2.h"
 
 namespace planemap::nav {
 
@@ -16,6 +17,9 @@ class Humanoid {
   virtual void Stop() = 0;
   // Whether a walk is still being executed.
   virtual bool IsWalking() const = 0;
+  // The walking engine's dead reckoning (Nao: ALMotion::getRobotPosition): the base pose in its own
+  // odometry frame, which drifts from the world; its changes are the motion it measured.
+  virtual Pose2 OdometryPose() const = 0;
 };
 
 }  // namespace planemap::nav

@@ -110,6 +110,8 @@ class Mission {
   const std::vector<Pose2>& ReferencePath() const;
   const std::vector<Pose2>& ControlPoints() const;
   Pose2 PreGraspTarget() const;
+  // The side of the object the robot grasps from: unit world xy axis out of that face.
+  Eigen::Vector2d GraspSide() const;
   const OccupancyGrid& Grid() const;
   int Replans() const;
 

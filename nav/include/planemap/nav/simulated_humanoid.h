@@ -65,6 +65,10 @@ struct Footstep {
   Pose2 foot;
 };
 
+// The camera (optical frame) on the head of a robot standing upright at `base`, without sway: where
+// odometry puts the camera.
+Pose3 NominalCameraPose(const Pose2& base, const HumanoidConfig& config);
+
 class SimulatedHumanoid : public Humanoid {
  public:
   // Standing at `start` (world) at time 0. Throws std::invalid_argument for a bad config.
@@ -81,7 +85,7 @@ class SimulatedHumanoid : public Humanoid {
   double Time() const { return time_; }  // [s]
 
   Pose2 TruePose() const;      // ground truth base pose in the world
-  Pose2 OdometryPose() const;  // the robot's belief: start plus the commanded steps
+  Pose2 OdometryPose() const override;  // the robot's belief: start plus the commanded steps
   // T_world_camera, optical frame (x right, y down, z forward), head sway included.
   Pose3 CameraPose() const;
   const std::vector<Footstep>& Footsteps() const { return footsteps_; }
