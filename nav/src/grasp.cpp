@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "planemap/nav/planner.h"
 
@@ -122,9 +123,10 @@ Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& conf
   const Footprint footprint = FootprintOf(object);
   const Eigen::Vector2d toward = toward_robot.norm() > 1e-9 ? Eigen::Vector2d(toward_robot.normalized())
                                                             : Eigen::Vector2d(footprint.axes.col(0));
-  // Best feasible side facing the robot [0] and of all [1]: its axis and band width.
-  Eigen::Vector2d best[2];
-  double best_width[2] = {-1.0, -1.0};
+  // A feasible side facing the robot beats one facing away; among equals, the widest band wins.
+  std::optional<Eigen::Vector2d> best;
+  bool best_facing = false;
+  double best_width = 0.0;
   for (int s = 0; s < 2; ++s) {
     for (double sign : {1.0, -1.0}) {
       const Eigen::Vector2d side = sign * footprint.axes.col(s);
@@ -132,17 +134,15 @@ Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& conf
       if (faces.width < config.hand_span_min || faces.width > config.hand_span_max) continue;
       const StandoffBand band = GraspBand(object, faces, config);
       if (band.Empty()) continue;
-      for (int k = 0; k < 2; ++k) {
-        if (k == 0 && side.dot(toward) <= 0.0) continue;
-        if (band.Width() > best_width[k] + 1e-9) {
-          best_width[k] = band.Width();
-          best[k] = side;
-        }
+      const bool facing = side.dot(toward) > 0.0;
+      if (!best || (facing && !best_facing) || (facing == best_facing && band.Width() > best_width + 1e-9)) {
+        best = side;
+        best_facing = facing;
+        best_width = band.Width();
       }
     }
   }
-  for (int k = 0; k < 2; ++k)
-    if (best_width[k] >= 0.0) return best[k];
+  if (best) return *best;
   const Eigen::Vector2d horizontal = object.grasp_axis.head<2>();
   if (object.has_grasp_axis && horizontal.norm() >= kMinHorizontal * object.grasp_axis.norm())
     return ClosestSide(footprint, horizontal);

@@ -368,7 +368,6 @@ const std::vector<ControlPointRecord>& Mission::Records() const { return state_-
 const std::vector<Pose2>& Mission::ReferencePath() const { return state_->path; }
 const std::vector<Pose2>& Mission::ControlPoints() const { return state_->control_points; }
 Pose2 Mission::PreGraspTarget() const { return state_->pre_grasp; }
-
 Eigen::Vector2d Mission::GraspSide() const { return state_->grasp_axis; }
 const OccupancyGrid& Mission::Grid() const { return state_->grid; }
 int Mission::Replans() const { return state_->replans; }

@@ -20,8 +20,6 @@ Pose3 HeadCamera(const Pose2& base, const HumanoidConfig& config, double lateral
   return T_world_camera;
 }
 
-
-
 // sin(a) / a, stable near 0.
 double Sinc(double a) { return std::abs(a) < 1e-6 ? 1.0 - a * a / 6.0 : std::sin(a) / a; }
 
