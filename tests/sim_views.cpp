@@ -6,15 +6,6 @@
 
 namespace planemap::testing {
 
-Pose3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  Pose3 T = Pose3::Identity();
-  T.linear() << x, z.cross(x), z;
-  T.translation() = eye;
-  return T;
-}
-
 const sim::Scene& DefaultScene() {
   static const sim::Scene scene = sim::LoadScene(SourcePath("configs/scenes/default.yaml"));
   return scene;

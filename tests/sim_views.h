@@ -11,8 +11,7 @@
 
 namespace planemap::testing {
 
-// A camera at `eye` looking at `target`, world z up.
-Pose3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+using planemap::LookAt;  // core/pose.h
 
 // Viewpoints of the default scene's box at 1-3 m from which it shows three faces, two sides and
 // its top, each with 1500+ pixels: from a grid of 5 distances x 5 bearings x 3 heights, the views

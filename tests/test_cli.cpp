@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "planemap/apps/study.h"
 #include "planemap/core/tum_format.h"
 #include "planemap/io/plane_map_io.h"
 #include "test_support.h"
@@ -36,7 +37,7 @@ CommandRun Planemap(const std::string& args, bool with_stderr = true) {
 }
 
 TEST(Cli, EverySubcommandHasHelp) {
-  for (const char* sub : {"", "render", "inspect", "frame", "map", "eval", "merge"}) {
+  for (const char* sub : {"", "render", "inspect", "frame", "map", "eval", "merge", "approach", "study"}) {
     const CommandRun run = Planemap(std::string(sub) + " --help");
     EXPECT_EQ(run.exit_code, 0) << sub;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << run.output;
@@ -180,6 +181,31 @@ TEST(Cli, EvalComparesMapObjectsWithTheScene) {
   EXPECT_NE(run.output.find("box          box          box             1.00   +0.50   +0.00       -        0.00            -"),
             std::string::npos) << run.output;
   EXPECT_NE(run.output.find("locker1      open_locker  -          not found"), std::string::npos) << run.output;
+
+  // The same figures in a study's columns (planemap study), truth-edge order, cm and degrees.
+  const std::string rows_csv = dir.File("rows.csv");
+  const CommandRun as_study = Planemap("eval --groundtruth " + gt + " --estimate " + gt + " --map " + map + " --scene " +
+                                       SourcePath("configs/scenes/default.yaml") + " --study-csv " + rows_csv, false);
+  ASSERT_EQ(as_study.exit_code, 0) << as_study.output;
+  std::ifstream in(rows_csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, StudyCsvHeader());
+  std::vector<StudyRow> rows;
+  while (std::getline(in, line)) {
+    rows.emplace_back();
+    ASSERT_TRUE(ParseStudyCsvLine(line, &rows.back())) << line;
+  }
+  ASSERT_EQ(rows.size(), 3u);  // box, locker1, locker2
+  EXPECT_EQ(rows[0].source, "fig2:box");
+  EXPECT_TRUE(rows[0].found);
+  EXPECT_NEAR(rows[0].center_error, 0.01, 1e-6);
+  EXPECT_NEAR(rows[0].dimension_error[0], 0.005, 1e-6);  // the box's depth (its x edge)
+  EXPECT_NEAR(rows[0].dimension_error[1], 0.0, 1e-6);
+  EXPECT_TRUE(std::isnan(rows[0].dimension_error[2]));   // the height was not seen whole
+  EXPECT_NEAR(rows[0].pose_error, 0.0, 1e-6);
+  EXPECT_FALSE(rows[1].found);
+  EXPECT_NE(as_study.output.find("fig2:box"), std::string::npos) << as_study.output;
 
   const std::string bad = dir.Write("bad.json", R"({"objects": [{"label": "box", "dimensions": [1, 1, 1],
       "dimension_complete": [true, true, true], "center": [2.1, 0.1], "axes": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}]})");

@@ -1,5 +1,6 @@
 // planemap eval: trajectory error (ATE, RPE) against ground truth, and the map's objects against a
 // scene's true objects.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +9,7 @@
 
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
+#include "planemap/apps/study.h"
 #include "planemap/core/error.h"
 #include "planemap/core/object_eval.h"
 #include "planemap/core/trajectory_eval.h"
@@ -162,11 +164,62 @@ void WriteCsv(const std::string& file, const EvalOptions& options, const Traject
   csv.Close();
 }
 
+// The figures as rows of a study (planemap study), so real and simulated studies read alike: one
+// per evaluated object, or one without object scores when there is no object truth. The pose
+// error is the largest position error with the estimate's first pose on the ground truth's, as a
+// study's runs are anchored.
+std::vector<StudyRow> StudyRows(const EvalOptions& options, const EvalConfig& config, const Trajectory& groundtruth,
+                                const Trajectory& estimate, const TrajectoryEvaluation& result, const ObjectReport* objects) {
+  const AssociatedPoses pairs = AssociatePoses(groundtruth, estimate, config.max_time_gap);
+  double pose_error = 0.0;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const Eigen::Vector3d t = result.T_groundtruth_estimate_first * pairs.estimate[i].translation();
+    pose_error = std::max(pose_error, (t - pairs.groundtruth[i].translation()).norm());
+  }
+  StudyRow base;
+  base.source = fs::path(options.estimate).parent_path().filename().string();
+  if (base.source.empty()) base.source = fs::path(options.estimate).stem().string();
+  base.run.distance = base.run.viewing_angle_deg = base.run.noise = base.run.object_scale = StudyRow::kNaN;
+  base.stage = options.stage;
+  base.frames_tracked = static_cast<int>(result.estimate_poses);
+  base.pose_error = pose_error;
+  std::vector<StudyRow> rows;
+  for (size_t i = 0; objects && i < objects->errors.size(); ++i) {
+    const ObjectError& e = objects->errors[i];
+    const auto& types = config.object_types;
+    if (std::find(types.begin(), types.end(), e.type) == types.end()) continue;
+    StudyRow row = base;
+    row.source = objects->scene + ":" + e.name;
+    row.run.index = static_cast<int>(rows.size());
+    row.found = e.found();
+    if (row.found) {
+      row.label = objects->estimates[e.estimate].label;
+      row.class_ok = row.label == ExpectedClass(e.type);
+      for (int k = 0; k < 3; ++k) row.dimension_error[k] = e.true_edge_error[k];
+      row.center_error = e.center_error;
+      row.axis_error_deg = e.axis_error_deg;
+      row.grasp_axis_error_deg = e.grasp_axis_error_deg;
+    } else {
+      row.note = "not found";
+    }
+    rows.push_back(row);
+  }
+  if (rows.empty()) {
+    base.scored = false;
+    base.note = objects ? "no object of eval.object_types in the scene" : "no object truth: give --map and --scene";
+    rows.push_back(base);
+  }
+  return rows;
+}
+
 }  // namespace
 
 int RunEval(const EvalOptions& options) {
   if (options.map.empty() != options.scene.empty()) {
     throw InputError("object evaluation needs both --map MAP.json and --scene SCENE.yaml (or a rendered sequence folder)");
+  }
+  if (options.stage != "tracking" && options.stage != "backend") {
+    throw InputError("--stage must be tracking or backend, not '" + options.stage + "'");
   }
   const std::string config_file = ResolveConfigPath(options.config);
   const EvalConfig config = LoadConfigFile<AppConfig>(config_file).eval;
@@ -194,6 +247,16 @@ int RunEval(const EvalOptions& options) {
   if (!options.csv.empty()) {
     WriteCsv(options.csv, options, result, objects ? &*objects : nullptr);
     std::fprintf(stderr, "  wrote %s\n", options.csv.c_str());
+  }
+  if (!options.study_csv.empty()) {
+    const std::vector<StudyRow> rows = StudyRows(options, config, groundtruth, estimate, result, objects ? &*objects : nullptr);
+    std::ofstream out(options.study_csv);
+    out << StudyCsvHeader() << "\n";
+    for (const StudyRow& row : rows) out << StudyCsvLine(row) << "\n";
+    out.close();
+    if (!out) ThrowInputError(options.study_csv, 0, "cannot write");
+    std::printf("  as a study (planemap study's columns, in %s):\n", options.study_csv.c_str());
+    PrintStudySummary(rows);
   }
   return 0;
 }

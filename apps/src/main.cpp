@@ -111,6 +111,17 @@ int main(int argc, char** argv) {
   approach_cmd->add_option("--json", approach.json, "Write the table as JSON here");
   approach_cmd->add_option("--plots", approach.plots, "Write Fig. 8-like SVG plots with this path prefix");
 
+  planemap::StudyOptions study;
+  CLI::App* study_cmd = app.add_subcommand(
+      "study", "Accuracy study: a sweep of rendered runs (distance, viewing angle, noise, object size, segmenter) into a "
+               "resumable CSV, a summary table (median, 90th percentile) and plots");
+  study_cmd->add_option("study", study.study, "Study file (YAML), e.g. configs/studies/default.yaml")->required();
+  study_cmd->add_option("--out", study.out, "Output folder (default: out/study_<name>)");
+  study_cmd->add_option("--threads", study.threads, "Runs in parallel (0: every core)")->capture_default_str();
+  study_cmd->add_option("--max-runs", study.max_runs, "Stop after this many new runs (0: all); run again to go on")
+      ->capture_default_str();
+  study_cmd->add_flag("--restart", study.restart, "Discard the output folder's finished runs");
+
   planemap::EvalOptions eval;
   CLI::App* eval_cmd = app.add_subcommand(
       "eval", "Trajectory error (ATE, RPE) against ground truth; with --map and --scene, the map's object errors");
@@ -120,6 +131,9 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--scene", eval.scene, "Scene (YAML) or rendered sequence folder holding the true objects");
   eval_cmd->add_option("--config", eval.config, "Settings (YAML), see eval: in configs/default.yaml")->capture_default_str();
   eval_cmd->add_option("--csv", eval.csv, "Write every figure to this CSV file (kind,name,metric,value,unit)");
+  eval_cmd->add_option("--study-csv", eval.study_csv,
+                       "Write the figures as rows of a study's runs.csv (planemap study) and print its summary table");
+  eval_cmd->add_option("--stage", eval.stage, "The estimate's stage in those rows: tracking or backend")->capture_default_str();
 
   planemap::MergeOptions merge;
   CLI::App* merge_cmd = app.add_subcommand(
@@ -147,6 +161,7 @@ int main(int argc, char** argv) {
     if (nees_cmd->parsed()) return planemap::RunNees(nees);
     if (merge_cmd->parsed()) return planemap::RunMerge(merge);
     if (approach_cmd->parsed()) return planemap::RunApproach(approach);
+    if (study_cmd->parsed()) return planemap::RunStudy(study);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());
     return 1;

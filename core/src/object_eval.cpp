@@ -14,17 +14,17 @@ double LineAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), std::abs(a.dot(b)));
 }
 
-// The truth's edge most parallel to each estimate axis: estimate minus truth length [m].
-Eigen::Vector3d DimensionErrors(const ObjectEstimate& estimate, const ObjectTruth& truth) {
-  Eigen::Vector3d errors = Eigen::Vector3d::Constant(ObjectError::kNaN);
+// The truth's edge most parallel to each estimate axis: estimate minus truth length [m], by
+// estimate axis and by true edge.
+void MeasureDimensions(const ObjectEstimate& estimate, const ObjectTruth& truth, ObjectError* error) {
   const Eigen::Matrix3d R_world_object = truth.T_world_object.linear();
   for (int k = 0; k < 3; ++k) {
     if (!estimate.dimension_complete[k]) continue;
     Eigen::Index edge = 0;
     (R_world_object.transpose() * estimate.axes.col(k)).cwiseAbs().maxCoeff(&edge);
-    errors[k] = estimate.dimensions[k] - truth.dimensions[edge];
+    error->dimension_error[k] = estimate.dimensions[k] - truth.dimensions[edge];
+    error->true_edge_error[edge] = error->dimension_error[k];
   }
-  return errors;
 }
 
 ObjectError Measure(const ObjectTruth& truth, const ObjectEstimate& estimate, int index) {
@@ -33,7 +33,7 @@ ObjectError Measure(const ObjectTruth& truth, const ObjectEstimate& estimate, in
   error.type = truth.type;
   error.estimate = index;
   error.center_error = (estimate.center - truth.T_world_object.translation()).norm();
-  error.dimension_error = DimensionErrors(estimate, truth);
+  MeasureDimensions(estimate, truth, &error);
   error.axis_error_deg = HorizontalAxisErrorDeg(estimate.axes.col(0), truth.T_world_object);
   if (estimate.grasp_axis) error.grasp_axis_error_deg = HorizontalAxisErrorDeg(*estimate.grasp_axis, truth.T_world_object);
   return error;

@@ -66,4 +66,13 @@ Box3 TransformBox(const Pose3& T, const Eigen::Vector3d& low, const Eigen::Vecto
   return box;
 }
 
+Pose3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (target - eye).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  Pose3 T = Pose3::Identity();
+  T.linear() << x, z.cross(x), z;
+  T.translation() = eye;
+  return T;
+}
+
 }  // namespace planemap

@@ -374,8 +374,9 @@ const SceneObject& Scene::object(const std::string& name) const {
   throw std::out_of_range("scene '" + this->name + "' has no object '" + name + "'");
 }
 
-Scene LoadScene(const std::string& file) {
-  const YAML::Node root = LoadYamlFile(file);
+Scene LoadScene(const std::string& file) { return ParseScene(LoadYamlFile(file), file); }
+
+Scene ParseScene(const YAML::Node& root, const std::string& file) {
   if (!root.IsMap()) ThrowInputError(file, config_detail::LineOf(root), "a scene file must be a map");
   ConfigReader reader(root, file);
   Scene scene;

@@ -58,6 +58,8 @@ struct EvalOptions {
   std::string scene;        // scene YAML or a rendered sequence folder (its scene.yaml)
   std::string config = "configs/default.yaml";
   std::string csv;          // empty: no CSV
+  std::string study_csv;    // the same figures as rows of a study's runs.csv; empty: none
+  std::string stage = "tracking";  // the estimate's stage in those rows: tracking | backend
 };
 
 struct MergeOptions {
@@ -67,6 +69,14 @@ struct MergeOptions {
   std::string config = "configs/default.yaml";
   std::string patterns = "configs/patterns.yaml";
   std::string out = "out/merged";  // map.json, map.ply
+};
+
+struct StudyOptions {
+  std::string study;     // a study file (configs/studies/*.yaml)
+  std::string out;       // output folder; empty: out/study_<name>
+  int threads = 0;       // runs in parallel (0: every core)
+  int max_runs = 0;      // stop after this many new runs (0: all); run again to go on
+  bool restart = false;  // discard the folder's finished runs
 };
 
 struct ApproachCommandOptions {
@@ -86,5 +96,6 @@ int RunFrame(const FrameOptions& options);
 int RunInspect(const InspectOptions& options);
 int RunEval(const EvalOptions& options);
 int RunNees(const ConsistencyOptions& options);
+int RunStudy(const StudyOptions& options);
 
 }  // namespace planemap

@@ -49,6 +49,8 @@ struct ObjectError {
   // Estimate minus truth along each estimate axis (the truth's most parallel edge); NaN where the
   // estimate's edge is incomplete [m].
   Eigen::Vector3d dimension_error = Eigen::Vector3d::Constant(kNaN);
+  // The same by the true object's edges (x, y, z of its frame) [m].
+  Eigen::Vector3d true_edge_error = Eigen::Vector3d::Constant(kNaN);
   double axis_error_deg = kNaN;        // estimate x vs the nearest true horizontal face normal [deg]
   double grasp_axis_error_deg = kNaN;  // the same for the grasp axis [deg]
   bool found() const { return estimate >= 0; }

@@ -41,4 +41,8 @@ Pose3 Interpolate(const Pose3& T_a, const Pose3& T_b, double s);
 // (x forward, y left, z up): R_body_optical.
 Eigen::Matrix3d RotationBodyFromOptical();
 
+// A camera (optical frame: z forward, y down) at `eye` looking at `target`, world z up; `target`
+// must not be straight above or below `eye`.
+Pose3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+
 }  // namespace planemap

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <yaml-cpp/yaml.h>
 
 #include "planemap/core/image.h"
 #include "planemap/core/plane.h"
@@ -77,9 +78,10 @@ struct Scene {
 // for unknown keys, missing or non-positive dimensions, unknown object types or marker targets.
 Scene LoadScene(const std::string& file);
 
-}  // namespace planemap::sim
+// The same from a parsed scene file (e.g. one a study has changed); `file` names it in errors.
+Scene ParseScene(const YAML::Node& root, const std::string& file);
 
-#include <yaml-cpp/yaml.h>
+}  // namespace planemap::sim
 
 #include "planemap/core/object_eval.h"
 

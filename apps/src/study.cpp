@@ -1,0 +1,389 @@
+#include "planemap/apps/study.h"
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "planemap/apps/app_config.h"
+#include "planemap/backend/backend.h"
+#include "planemap/core/error.h"
+#include "planemap/core/object_eval.h"
+#include "planemap/core/statistics.h"
+#include "planemap/frontend/frontend.h"
+#include "planemap/frontend/organized_cloud.h"
+#include "planemap/frontend/tracker.h"
+#include "planemap/sim/scene.h"
+#include "planemap/sim/virtual_camera.h"
+
+namespace planemap {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+constexpr double kCm = 100.0;  // [cm/m]
+
+// The scene file with the studied object's dimensions scaled by `scale`, its bottom kept where it
+// was (on the floor). Markers printed on it keep their size and place on its faces.
+sim::Scene ScaledScene(const std::string& file, const std::string& object, double scale) {
+  YAML::Node root = LoadYamlFile(file);
+  if (scale != 1.0 && root["objects"] && root["objects"].IsSequence()) {
+    for (YAML::Node item : root["objects"]) {
+      if (!item.IsMap() || !item["name"] || item["name"].as<std::string>() != object) continue;
+      if (!item["dimensions"] || !item["position"]) break;  // ParseScene names what is missing
+      std::vector<double> dims = item["dimensions"].as<std::vector<double>>();
+      std::vector<double> position = item["position"].as<std::vector<double>>();
+      if (dims.size() != 3 || position.size() != 3) break;
+      position[2] += 0.5 * dims[2] * (scale - 1.0);
+      for (double& d : dims) d *= scale;
+      item["dimensions"] = dims;
+      item["position"] = position;
+    }
+  }
+  return sim::ParseScene(root, file);
+}
+
+// The class the patterns give a scene object type.
+std::string ExpectedClass(const std::string& type) { return type == "open_locker" ? "locker" : type; }
+
+// Camera position of frame `k` of a run: on a circle around the object at the run's distance.
+Eigen::Vector3d Eye(const StudyConfig& study, const StudyRun& run, const sim::SceneObject& object, int k) {
+  const Eigen::Vector3d x_axis = object.T_world_object.linear().col(0);
+  double bearing = std::atan2(x_axis.y(), x_axis.x()) - run.viewing_angle_deg * kDegToRad;
+  if (study.frames > 1) bearing += study.path_length / run.distance * (static_cast<double>(k) / (study.frames - 1) - 0.5);
+  const Eigen::Vector3d c = object.T_world_object.translation();
+  return {c.x() + run.distance * std::cos(bearing), c.y() + run.distance * std::sin(bearing), study.camera_height};
+}
+
+// Where a viewpoint is impossible: outside the floor or inside a solid; empty if it is fine.
+std::string ViewpointProblem(const sim::Scene& scene, const Eigen::Vector3d& eye) {
+  for (size_t i : scene.flat_surfaces) {
+    const sim::Surface& s = scene.surfaces[i];
+    if (s.object != "floor") continue;
+    const Eigen::Vector3d d = eye - s.center_world;
+    if (std::abs(d.dot(s.axis_u)) > s.half_u || std::abs(d.dot(s.axis_v)) > s.half_v) return "outside the floor";
+  }
+  for (const sim::Cuboid& c : scene.cuboids) {
+    const Eigen::Vector3d p = c.T_world_box.inverse() * eye;
+    if ((p.cwiseAbs() - 0.5 * c.dimensions).maxCoeff() < 0.0) return "inside an object";
+  }
+  return "";
+}
+
+std::string Number(double value, const char* format = "%.4f") {
+  if (std::isnan(value)) return "";
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
+std::string Short(double value) { return Number(value, "%.10g"); }
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+bool ParseDouble(const std::string& text, double* value) {
+  if (text.empty()) {
+    *value = StudyRow::kNaN;
+    return true;
+  }
+  char* end = nullptr;
+  *value = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size();
+}
+
+bool ParseInt(const std::string& text, int* value) {
+  double v = 0.0;
+  if (text.empty() || !ParseDouble(text, &v) || v != std::floor(v)) return false;
+  *value = static_cast<int>(v);
+  return true;
+}
+
+StudyRow Score(const StudyRun& run, const std::string& stage, const PlaneMap& map, const ObjectTruth& truth,
+               const EvalConfig& eval) {
+  StudyRow row;
+  row.run = run;
+  row.stage = stage;
+  const std::vector<ObjectEstimate> estimates = MapObjectEstimates(map);
+  const ObjectError e = EvaluateObjects({truth}, estimates, eval).front();
+  row.found = e.found();
+  if (!row.found) {
+    row.note = "no map object within " + Short(eval.max_object_distance) + " m of the true centre (" +
+               std::to_string(estimates.size()) + " objects mapped)";
+    return row;
+  }
+  row.label = estimates[e.estimate].label;
+  row.class_ok = row.label == ExpectedClass(truth.type);
+  for (int k = 0; k < 3; ++k) row.dimension_error[k] = e.true_edge_error[k];
+  row.center_error = e.center_error;
+  row.axis_error_deg = e.axis_error_deg;
+  row.grasp_axis_error_deg = e.grasp_axis_error_deg;
+  return row;
+}
+
+}  // namespace
+
+StudyConfig LoadStudy(const std::string& file) {
+  StudyConfig study = LoadConfigFile<StudyConfig>(file);
+  const StudySweep& s = study.sweep;
+  auto require = [&](bool ok, const std::string& what) {
+    if (!ok) ThrowInputError(file, 0, what);
+  };
+  require(!s.distance.empty() && !s.viewing_angle_deg.empty() && !s.noise.empty() && !s.object_scale.empty() &&
+              !s.segmenter.empty(),
+          "every sweep list needs at least one value");
+  for (const std::string& m : s.segmenter) {
+    require(m == "organized" || m == "msac", "sweep.segmenter: unknown segmenter '" + m + "' (organized, msac)");
+  }
+  const sim::Scene scene = sim::LoadScene(ResolveConfigPath(study.scene));
+  try {
+    scene.object(study.object);
+  } catch (const std::out_of_range&) {
+    require(false, "object: scene '" + scene.name + "' has no object '" + study.object + "'");
+  }
+  LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));  // a bad pipeline file fails now
+  for (const StudyRun& run : StudyRuns(study)) {
+    if (run.seed != 1) continue;
+    const sim::Scene scaled = ScaledScene(ResolveConfigPath(study.scene), study.object, run.object_scale);
+    for (int k = 0; k < study.frames; ++k) {
+      const Eigen::Vector3d eye = Eye(study, run, scaled.object(study.object), k);
+      const std::string problem = ViewpointProblem(scaled, eye);
+      require(problem.empty(), "distance " + Short(run.distance) + " m at viewing angle " + Short(run.viewing_angle_deg) +
+                                   " deg puts the camera at (" + Number(eye.x(), "%.2f") + ", " + Number(eye.y(), "%.2f") +
+                                   ") m, " + problem + " of scene '" + scene.name + "'");
+    }
+  }
+  return study;
+}
+
+std::vector<StudyRun> StudyRuns(const StudyConfig& study) {
+  std::vector<StudyRun> runs;
+  const StudySweep& s = study.sweep;
+  for (double distance : s.distance) {
+    for (double angle : s.viewing_angle_deg) {
+      for (double noise : s.noise) {
+        for (double scale : s.object_scale) {
+          for (const std::string& segmenter : s.segmenter) {
+            for (int seed = 1; seed <= study.seeds; ++seed) {
+              StudyRun run{static_cast<int>(runs.size()), distance, angle, noise, scale, segmenter, seed};
+              runs.push_back(run);
+            }
+          }
+        }
+      }
+    }
+  }
+  return runs;
+}
+
+std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run) {
+  AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));
+  config.frontend.segmentation.method = run.segmenter;
+  config.render.noise.sigma_coefficient *= run.noise;
+  config.render.noise.gaussian = config.render.noise.gaussian && run.noise > 0.0;
+  const CameraIntrinsics camera = LoadCameraIntrinsics(ResolveConfigPath(study.camera));
+  const sim::Scene scene = ScaledScene(ResolveConfigPath(study.scene), study.object, run.object_scale);
+  const sim::SceneObject& object = scene.object(study.object);
+  const sim::VirtualCamera sensor(scene, camera, config.render);
+  const Frontend frontend(camera, config.frontend, LoadPatterns(ResolveConfigPath(study.patterns)));
+
+  // Every cell sees the same noise draws for the same seed (common random numbers), so cells
+  // differ by what the sweep changes, not by luck.
+  const std::uint64_t base = 1000003ULL * static_cast<std::uint64_t>(study.seed) + 1009ULL * static_cast<std::uint64_t>(run.seed);
+  const Eigen::Vector3d center = object.T_world_object.translation();
+  std::optional<Tracker> tracker;
+  int tracked = 0;
+  std::vector<Pose3> truth_poses, tracked_poses;
+  for (int k = 0; k < study.frames; ++k) {
+    const Pose3 T_world_camera = LookAt(Eye(study, run, object, k), center);
+    truth_poses.push_back(T_world_camera);
+    const sim::RenderedFrame rendered = sensor.Render(T_world_camera, base + static_cast<std::uint64_t>(k));
+    RgbdFrame frame;
+    frame.depth = rendered.depth;
+    frame.color = rendered.color;
+    frame.stamp = k * study.frame_interval;
+    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
+    const FrameModel model = frontend.Process(*cloud);
+    if (!tracker) tracker.emplace(config.tracking, T_world_camera);  // anchored at the true first pose
+    const TrackResult result = tracker->Track(model, *cloud, frame.stamp);
+    tracked += result.status != TrackStatus::kLost;
+    tracked_poses.push_back(result.T_world_camera);
+  }
+  auto largest_error = [&](const std::vector<Pose3>& poses) {
+    double largest = 0.0;
+    for (size_t k = 0; k < poses.size() && k < truth_poses.size(); ++k) {
+      largest = std::max(largest, (poses[k].translation() - truth_poses[k].translation()).norm());
+    }
+    return largest;
+  };
+
+  ObjectTruth truth;
+  truth.name = object.name;
+  truth.type = object.type;
+  truth.T_world_object = object.T_world_object;
+  truth.dimensions = object.dimensions;
+  std::vector<StudyRow> rows{Score(run, "tracking", tracker->map(), truth, config.eval)};
+  rows.back().pose_error = largest_error(tracked_poses);
+  if (study.backend) {
+    const BatchResult batch = RefineBatch(tracker->map(), tracker->observations(), config.backend);
+    // As `planemap map --refine`: an unusable solve keeps tracking's map, and says so.
+    const bool usable = batch.report.usable;
+    rows.push_back(Score(run, "backend", usable ? batch.map : tracker->map(), truth, config.eval));
+    rows.back().pose_error = largest_error(usable ? batch.poses : tracked_poses);
+    if (!usable) rows.back().note = "back end failed (" + batch.report.termination + "): tracking's map";
+  }
+  for (StudyRow& row : rows) {
+    row.source = scene.name;
+    row.frames_tracked = tracked;
+  }
+  return rows;
+}
+
+void StudyErrors::Add(const StudyRow& r) {
+  ++runs;
+  scored += r.scored;
+  found += r.scored && r.found;
+  class_ok += r.scored && r.class_ok;
+  if (!std::isnan(r.pose_error)) pose.push_back(kCm * r.pose_error);
+  for (double e : r.dimension_error) {
+    if (!std::isnan(e)) dimension.push_back(kCm * std::abs(e));
+  }
+  if (!std::isnan(r.center_error)) center.push_back(kCm * r.center_error);
+  if (!std::isnan(r.axis_error_deg)) axis.push_back(r.axis_error_deg);
+  if (!std::isnan(r.grasp_axis_error_deg)) grasp_axis.push_back(r.grasp_axis_error_deg);
+}
+
+namespace {
+
+// A cell of the summary: its rows' errors, and its key fields as printed.
+struct SummaryCell {
+  std::vector<std::string> key;  // source, distance, angle, noise, scale, segmenter, stage
+  StudyErrors errors;
+};
+
+std::vector<SummaryCell> SummaryCells(const std::vector<StudyRow>& rows) {
+  std::vector<SummaryCell> cells;
+  std::map<std::vector<std::string>, size_t> index;
+  for (const StudyRow& r : rows) {
+    std::vector<std::string> key{r.source,
+                                 Short(r.run.distance),
+                                 Short(r.run.viewing_angle_deg),
+                                 Short(r.run.noise),
+                                 Short(r.run.object_scale),
+                                 r.run.segmenter,
+                                 r.stage};
+    auto [it, added] = index.emplace(key, cells.size());
+    if (added) cells.push_back({key, {}});
+    cells[it->second].errors.Add(r);
+  }
+  return cells;
+}
+
+// Median and 90th percentile, NaN (printed "-", written empty) for none.
+std::array<double, 2> Quantiles(const std::vector<double>& values) {
+  if (values.empty()) return {StudyRow::kNaN, StudyRow::kNaN};
+  return {Percentile(values, 0.5), Percentile(values, 0.9)};
+}
+
+}  // namespace
+
+std::string StudySummaryCsv(const std::vector<StudyRow>& rows) {
+  std::ostringstream csv;
+  csv << "source,distance_m,viewing_angle_deg,noise,object_scale,segmenter,stage,runs,found,class_ok,"
+         "dimension_error_median_cm,dimension_error_p90_cm,center_error_median_cm,center_error_p90_cm,"
+         "axis_error_median_deg,axis_error_p90_deg,grasp_axis_error_median_deg,grasp_axis_error_p90_deg,"
+         "pose_error_median_cm,pose_error_p90_cm\n";
+  for (const SummaryCell& cell : SummaryCells(rows)) {
+    for (const std::string& field : cell.key) csv << field << ',';
+    const StudyErrors& e = cell.errors;
+    csv << e.runs << ',' << e.found << ',' << e.class_ok;
+    for (const std::vector<double>* values : {&e.dimension, &e.center, &e.axis, &e.grasp_axis, &e.pose}) {
+      for (double q : Quantiles(*values)) csv << ',' << Number(q);
+    }
+    csv << '\n';
+  }
+  return csv.str();
+}
+
+void PrintStudySummary(const std::vector<StudyRow>& rows) {
+  std::printf("  %-10s %6s %6s %5s %5s %-9s %-8s %5s %5s | %-13s | %-13s | %-13s | %-13s | %s\n", "source", "dist m", "angle",
+              "noise", "scale", "segmenter", "stage", "found", "class", "dimension cm", "centre cm", "axis deg",
+              "grasp axis deg", "pose cm");
+  std::printf("  %-10s %6s %6s %5s %5s %-9s %-8s %5s %5s |", "", "", "deg", "", "", "", "", "", "");
+  for (int k = 0; k < 5; ++k) std::printf(" %6s %6s%s", "median", "p90", k < 4 ? " |" : "\n");
+  auto shown = [](const std::string& field) { return field.empty() ? std::string("-") : field; };
+  auto share = [](int count, int of) { return of ? std::to_string(count) + "/" + std::to_string(of) : std::string("-"); };
+  for (const SummaryCell& cell : SummaryCells(rows)) {
+    const StudyErrors& e = cell.errors;
+    std::printf("  %-10s %6s %6s %5s %5s %-9s %-8s %5s %5s |", shown(cell.key[0]).c_str(), shown(cell.key[1]).c_str(),
+                shown(cell.key[2]).c_str(), shown(cell.key[3]).c_str(), shown(cell.key[4]).c_str(), shown(cell.key[5]).c_str(),
+                cell.key[6].c_str(), share(e.found, e.scored).c_str(), share(e.class_ok, e.scored).c_str());
+    for (const std::vector<double>* values : {&e.dimension, &e.center, &e.axis, &e.grasp_axis, &e.pose}) {
+      const std::array<double, 2> q = Quantiles(*values);
+      std::printf(" %6s %6s%s", shown(Number(q[0], "%.2f")).c_str(), shown(Number(q[1], "%.2f")).c_str(),
+                  values == &e.pose ? "\n" : " |");
+    }
+  }
+}
+
+std::string StudyCsvHeader() {
+  return "source,run,distance_m,viewing_angle_deg,noise,object_scale,segmenter,seed,stage,found,class,class_ok,"
+         "dimension_error_x_cm,dimension_error_y_cm,dimension_error_z_cm,center_error_cm,axis_error_deg,"
+         "grasp_axis_error_deg,frames_tracked,pose_error_cm,note";
+}
+
+std::string StudyCsvLine(const StudyRow& r) {
+  std::string note = r.note;
+  for (char& c : note) {
+    if (c == ',' || c == '\n' || c == '"') c = ';';
+  }
+  std::ostringstream line;
+  std::string source = r.source;
+  for (char& c : source) {
+    if (c == ',' || c == '\n' || c == '"') c = ';';
+  }
+  line << source << ',' << r.run.index << ',' << Short(r.run.distance) << ',' << Short(r.run.viewing_angle_deg) << ',' << Short(r.run.noise) << ','
+       << Short(r.run.object_scale) << ',' << r.run.segmenter << ',' << r.run.seed << ',' << r.stage << ',' << (r.scored ? std::to_string(r.found) : "") << ','
+       << r.label << ',' << (r.scored ? std::to_string(r.class_ok) : "") << ',' << Number(kCm * r.dimension_error[0]) << ','
+       << Number(kCm * r.dimension_error[1]) << ',' << Number(kCm * r.dimension_error[2]) << ',' << Number(kCm * r.center_error)
+       << ',' << Number(r.axis_error_deg) << ',' << Number(r.grasp_axis_error_deg) << ',' << r.frames_tracked << ','
+       << Number(kCm * r.pose_error) << ',' << note;
+  return line.str();
+}
+
+bool ParseStudyCsvLine(const std::string& line, StudyRow* r) {
+  std::vector<std::string> all = SplitCsv(line);
+  if (all.size() != 21) return false;
+  r->source = all[0];
+  const std::vector<std::string> f(all.begin() + 1, all.end());  // the fields after the source
+  int found = 0, class_ok = 0;
+  double cm[5];
+  bool ok = ParseInt(f[0], &r->run.index) && ParseDouble(f[1], &r->run.distance) &&
+            ParseDouble(f[2], &r->run.viewing_angle_deg) && ParseDouble(f[3], &r->run.noise) &&
+            ParseDouble(f[4], &r->run.object_scale) && ParseInt(f[6], &r->run.seed) && (f[8].empty() || ParseInt(f[8], &found)) &&
+            (f[10].empty() || ParseInt(f[10], &class_ok)) && ParseDouble(f[11], &cm[0]) && ParseDouble(f[12], &cm[1]) &&
+            ParseDouble(f[13], &cm[2]) && ParseDouble(f[14], &cm[3]) && ParseDouble(f[15], &r->axis_error_deg) &&
+            ParseDouble(f[16], &r->grasp_axis_error_deg) && ParseInt(f[17], &r->frames_tracked) &&
+            ParseDouble(f[18], &cm[4]);
+  if (!ok || (f[7] != "tracking" && f[7] != "backend")) return false;
+  r->run.segmenter = f[5];
+  r->stage = f[7];
+  r->scored = !f[8].empty();
+  r->found = found != 0;
+  r->label = f[9];
+  r->class_ok = class_ok != 0;
+  for (int k = 0; k < 3; ++k) r->dimension_error[k] = cm[k] / kCm;
+  r->center_error = cm[3] / kCm;
+  r->pose_error = cm[4] / kCm;
+  r->note = f[19];
+  return true;
+}
+
+}  // namespace planemap

@@ -1,0 +1,299 @@
+// planemap study: runs a study's sweep in parallel into a resumable CSV, then prints and writes
+// the summary table and plots.
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include <omp.h>
+
+#include "planemap/apps/app_config.h"
+#include "planemap/apps/commands.h"
+#include "planemap/apps/study.h"
+#include "planemap/apps/svg_plot.h"
+#include "planemap/core/error.h"
+#include "planemap/core/statistics.h"
+
+namespace fs = std::filesystem;
+
+namespace planemap {
+namespace {
+
+constexpr double kCm = 100.0;  // [cm/m]
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void OnInterrupt(int) {
+  g_interrupted = true;
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
+}
+
+std::string ReadText(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) ThrowInputError(file, 0, "cannot read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// What decides a study's rows: its settings and the text of every file it reads. A folder made with
+// other settings is not resumed into.
+std::string StudyIdentity(const StudyConfig& study) {
+  std::ostringstream id;
+  id << "# planemap study: the settings this folder's runs.csv was made with\n" << ConfigToYaml(study) << "\n";
+  for (const std::string& file : {study.config, study.scene, study.camera, study.patterns}) {
+    id << "---\n# " << file << "\n" << ReadText(ResolveConfigPath(file)) << "\n";
+  }
+  return id.str();
+}
+
+void WriteFileAtomically(const fs::path& file, const std::string& text) {
+  const fs::path temporary = file.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) ThrowInputError(temporary.string(), 0, "cannot write");
+  }
+  std::error_code ec;
+  fs::rename(temporary, file, ec);
+  if (ec) ThrowInputError(file.string(), 0, "cannot replace: " + ec.message());
+}
+
+// A row's stage (its 9th field).
+std::string StageOf(const std::string& line) {
+  size_t begin = 0;
+  for (int k = 0; k < 8; ++k) begin = line.find(',', begin) + 1;
+  return line.substr(begin, line.find(',', begin) - begin);
+}
+
+// The finished runs of an earlier, interrupted invocation: lines by run index. A line that is not
+// a whole row of this study (cut by the interruption, or of another sweep) is dropped, and so is a
+// run missing one of its stages: it runs again.
+std::map<int, std::vector<std::string>> ReadFinishedRuns(const fs::path& csv, const std::vector<StudyRun>& runs, int stages,
+                                                        int* dropped) {
+  std::map<int, std::vector<std::string>> finished;
+  *dropped = 0;
+  std::ifstream in(csv, std::ios::binary);
+  if (!in) return finished;
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::istringstream lines(text);
+  std::string line;
+  if (!std::getline(lines, line) || line != StudyCsvHeader()) {
+    ThrowInputError(csv.string(), 1, "not a planemap study CSV (its header differs); use another --out or --restart");
+  }
+  size_t consumed = line.size() + 1;
+  while (std::getline(lines, line)) {
+    consumed += line.size() + 1;
+    StudyRow row;
+    const bool whole = consumed <= text.size();  // the last line ends with a newline
+    if (!whole || !ParseStudyCsvLine(line, &row) || row.run.index < 0 || row.run.index >= static_cast<int>(runs.size())) {
+      ++*dropped;
+      continue;
+    }
+    const StudyRun& run = runs[row.run.index];
+    if (row.run.segmenter != run.segmenter || row.run.seed != run.seed || row.run.distance != run.distance ||
+        row.run.noise != run.noise) {
+      ++*dropped;
+      continue;
+    }
+    finished[row.run.index].push_back(line);
+  }
+  for (auto it = finished.begin(); it != finished.end();) {
+    const bool distinct = it->second.size() < 2 || StageOf(it->second[0]) != StageOf(it->second[1]);
+    if (static_cast<int>(it->second.size()) == stages && distinct) {
+      ++it;
+    } else {
+      *dropped += static_cast<int>(it->second.size());
+      it = finished.erase(it);
+    }
+  }
+  return finished;
+}
+
+// --- summary ------------------------------------------------------------------------------------
+
+// Plots of each error against each swept variable with more than one value: median (solid) and
+// 90th percentile (dashed) per segmenter and stage, pooled over the other variables.
+std::vector<std::string> WritePlots(const fs::path& out, const StudyConfig& study, const std::vector<StudyRow>& rows) {
+  struct Variable {
+    const char* name;
+    const char* label;
+    size_t values;
+    std::function<double(const StudyRun&)> get;
+  };
+  const StudySweep& s = study.sweep;
+  const Variable variables[] = {
+      {"distance", "distance to the object [m]", s.distance.size(), [](const StudyRun& r) { return r.distance; }},
+      {"viewing_angle", "viewing angle from the +x face [deg]", s.viewing_angle_deg.size(),
+       [](const StudyRun& r) { return r.viewing_angle_deg; }},
+      {"noise", "depth noise scale", s.noise.size(), [](const StudyRun& r) { return r.noise; }},
+      {"object_scale", "object size scale", s.object_scale.size(), [](const StudyRun& r) { return r.object_scale; }},
+  };
+  struct Metric {
+    const char* name;
+    const char* label;
+    std::vector<double> StudyErrors::*values;
+  };
+  const Metric metrics[] = {{"dimension", "|dimension error| [cm]", &StudyErrors::dimension},
+                            {"center", "centre error [cm]", &StudyErrors::center},
+                            {"axis", "axis error [deg]", &StudyErrors::axis}};
+  const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
+  std::vector<std::string> written;
+  for (const Variable& v : variables) {
+    if (v.values < 2) continue;
+    // series key (segmenter, stage) -> x -> group
+    std::map<std::string, std::map<double, StudyErrors>> series;
+    for (const StudyRow& r : rows) series[r.run.segmenter + ", " + r.stage][v.get(r.run)].Add(r);
+    for (const Metric& m : metrics) {
+      Plot plot;
+      plot.title = std::string(m.label) + " against " + v.name + ": median (solid), 90th percentile (dashed)";
+      plot.x_label = v.label;
+      plot.y_label = m.label;
+      size_t k = 0;
+      for (const auto& [name, by_x] : series) {
+        PlotSeries median{colors[k % 6], name, {}, true, true, false};
+        PlotSeries p90{colors[k % 6], "", {}, true, false, true};
+        for (const auto& [x, group] : by_x) {
+          const std::vector<double>& values = group.*(m.values);
+          if (values.empty()) continue;
+          median.points.emplace_back(x, Percentile(values, 0.5));
+          p90.points.emplace_back(x, Percentile(values, 0.9));
+        }
+        plot.series.push_back(median);
+        plot.series.push_back(p90);
+        ++k;
+      }
+      const fs::path file = out / (std::string(m.name) + "_vs_" + v.name + ".svg");
+      WritePlotSvg(file.string(), plot);
+      written.push_back(file.filename().string());
+    }
+  }
+  return written;
+}
+
+}  // namespace
+
+int RunStudy(const StudyOptions& options) {
+  const std::string study_file = ResolveConfigPath(options.study);
+  const StudyConfig study = LoadStudy(study_file);
+  const std::vector<StudyRun> runs = StudyRuns(study);
+  const int stages = study.backend ? 2 : 1;
+  if (options.max_runs < 0) throw InputError("--max-runs must be 0 (all) or more");
+
+  const fs::path out(options.out.empty() ? "out/study_" + study.name : options.out);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) ThrowInputError(out.string(), 0, "cannot create folder: " + ec.message());
+  const fs::path csv = out / "runs.csv", identity_file = out / "study.yaml";
+  const std::string identity = StudyIdentity(study);
+  if (options.restart) {
+    fs::remove(csv, ec);
+  } else if (fs::exists(csv) && fs::exists(identity_file) && ReadText(identity_file.string()) != identity) {
+    ThrowInputError(out.string(), 0,
+                    "holds the runs of a study with other settings (its study.yaml differs): use another --out, or --restart "
+                    "to discard them");
+  }
+  WriteFileAtomically(identity_file, identity);
+
+  int dropped = 0;
+  std::map<int, std::vector<std::string>> finished = ReadFinishedRuns(csv, runs, stages, &dropped);
+  const size_t resumed = finished.size();
+  {  // the file as it stands, without cut lines, so appended rows start on a line of their own
+    std::string text = StudyCsvHeader() + "\n";
+    for (const auto& [index, lines] : finished) {
+      for (const std::string& line : lines) text += line + "\n";
+    }
+    WriteFileAtomically(csv, text);
+  }
+  std::vector<StudyRun> pending;
+  for (const StudyRun& run : runs) {
+    if (!finished.count(run.index)) pending.push_back(run);
+  }
+  if (options.max_runs > 0 && pending.size() > static_cast<size_t>(options.max_runs)) pending.resize(options.max_runs);
+
+  const int threads = options.threads > 0 ? options.threads : omp_get_num_procs();
+  std::fprintf(stderr, "planemap study %s: %zu runs (%zu cells x %d seeds), %zu finished before%s, %zu to run on %d threads\n",
+               study.name.c_str(), runs.size(), runs.size() / study.seeds, study.seeds, resumed,
+               dropped ? (", " + std::to_string(dropped) + " cut or foreign lines dropped").c_str() : "", pending.size(), threads);
+
+  std::ofstream append(csv, std::ios::app | std::ios::binary);
+  if (!append) ThrowInputError(csv.string(), 0, "cannot append");
+  g_interrupted = false;
+  auto previous = std::signal(SIGINT, OnInterrupt);
+  std::mutex mutex;
+  std::string failure;
+  size_t done = 0;
+  const double start = omp_get_wtime();
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (size_t i = 0; i < pending.size(); ++i) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (g_interrupted || !failure.empty()) continue;
+    }
+    omp_set_num_threads(1);  // the renderer's loops: one thread per run, the runs fill the cores
+    std::vector<StudyRow> rows;
+    try {
+      rows = RunStudyCell(study, pending[i]);
+    } catch (const std::exception& e) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (failure.empty()) failure = "run " + std::to_string(pending[i].index) + ": " + e.what();
+      continue;
+    }
+    std::string text;
+    for (const StudyRow& row : rows) text += StudyCsvLine(row) + "\n";
+    std::lock_guard<std::mutex> lock(mutex);
+    append << text << std::flush;  // whole runs only: an interruption cuts at most this write
+    finished[pending[i].index] = {};
+    ++done;
+    const double elapsed = omp_get_wtime() - start;
+    std::fprintf(stderr, "\r  %zu/%zu runs, %.0f s, about %.0f s to go   ", resumed + done, runs.size(), elapsed,
+                 elapsed / done * (pending.size() - done));
+  }
+  std::signal(SIGINT, previous);
+  append.close();
+  std::fprintf(stderr, "\n");
+  if (!failure.empty()) throw InputError(failure);
+  if (!append) ThrowInputError(csv.string(), 0, "write failed");
+  if (finished.size() < runs.size()) {
+    std::printf("planemap study %s: %zu of %zu runs in %s; run the same command again to resume\n", study.name.c_str(),
+                finished.size(), runs.size(), csv.string().c_str());
+    return g_interrupted ? 130 : 0;
+  }
+
+  // Every run is in: the CSV in run order (the same whatever order the runs finished in), then
+  // the summary and plots from it.
+  int dropped_now = 0;
+  const std::map<int, std::vector<std::string>> all = ReadFinishedRuns(csv, runs, stages, &dropped_now);
+  if (all.size() != runs.size()) ThrowInputError(csv.string(), 0, "lost rows while running: " + std::to_string(dropped_now));
+  std::string text = StudyCsvHeader() + "\n";
+  std::vector<StudyRow> rows;
+  for (const auto& [index, lines] : all) {
+    std::vector<std::string> sorted = lines;  // tracking before backend
+    std::sort(sorted.begin(), sorted.end(), [](const std::string& a, const std::string& b) {
+      return StageOf(a) == "tracking" && StageOf(b) != "tracking";
+    });
+    for (const std::string& line : sorted) {
+      text += line + "\n";
+      rows.emplace_back();
+      ParseStudyCsvLine(line, &rows.back());
+    }
+  }
+  WriteFileAtomically(csv, text);
+  std::printf("planemap study %s: %zu runs of %s, object '%s', %d frame%s per run\n", study.name.c_str(), runs.size(),
+              study.scene.c_str(), study.object.c_str(), study.frames, study.frames == 1 ? "" : "s");
+  PrintStudySummary(rows);
+  WriteFileAtomically(out / "summary.csv", StudySummaryCsv(rows));
+  const std::vector<std::string> plots = WritePlots(out, study, rows);
+  std::printf("  wrote %s, %s", csv.string().c_str(), (out / "summary.csv").string().c_str());
+  for (const std::string& p : plots) std::printf(", %s", p.c_str());
+  std::printf("\n");
+  return 0;
+}
+
+}  // namespace planemap
