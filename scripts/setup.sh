@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages planemap builds with, if any is missing. Runs as root (CI, a
-# fresh machine) or through sudo.
+# Installs what planemap builds and tests with, if any is missing: Debian 12 packages, and the HTML
+# reports' three.js (npm ci in web/). Runs as root (CI, a fresh machine) or through sudo.
+#   scripts/setup.sh                 build dependencies, Node.js, web/node_modules
+#   scripts/setup.sh --with-browser  and Chromium, for the report's browser test (scripts/test.sh)
 set -euo pipefail
+cd "$(dirname "$0")/.."
 
 PACKAGES=(
   build-essential cmake ninja-build lld pkg-config
@@ -9,17 +12,25 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libboost-math-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+[ "${1:-}" = "--with-browser" ] && PACKAGES+=(chromium)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if ((${#missing[@]} == 0)); then
-  exit 0
-fi
+# Node.js and npm, from Debian only when the machine has none of its own.
+command -v node >/dev/null && command -v npm >/dev/null || missing+=(nodejs npm)
 
 SUDO=""
 [ "$(id -u)" = 0 ] || SUDO=sudo
-echo "setup: installing ${missing[*]}"
-$SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+if ((${#missing[@]} > 0)); then
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# three.js (and the browser test's driver) at the versions web/package-lock.json pins.
+if [ ! -d web/node_modules ]; then
+  echo "setup: npm ci in web/"
+  (cd web && npm ci --no-audit --no-fund --loglevel=error)
+fi

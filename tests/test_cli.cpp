@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -300,6 +301,50 @@ TEST(Cli, MapRefineWritesTheRefinedTrajectoryAndTheBoxesUncertainty) {
     }
   }
   EXPECT_GE(boxes, 1);
+}
+
+// The page inlines three.js from web/node_modules, which scripts/setup.sh installs.
+bool ThreeJsInstalled() { return std::filesystem::exists(SourcePath("web/node_modules/three/build/three.core.js")); }
+
+TEST(Cli, MapWritesAReportListingTheMapsObjects) {
+  if (!ThreeJsInstalled()) GTEST_SKIP() << "web/node_modules missing: run scripts/setup.sh";
+  TempDir dir;
+  const std::string seq = dir.File("seq"), report = dir.File("map.html");
+  ASSERT_EQ(Planemap("render --max-frames 3 --out " + seq).exit_code, 0);
+  const CommandRun run = Planemap("map " + seq + " --out " + dir.File("m") + " --report " + report);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::ifstream in(report);
+  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Self-contained: three.js and the viewer inlined, the data in the page, nothing left to fill.
+  EXPECT_NE(page.find("data-module=\"three/build/three.core.js\""), std::string::npos);
+  EXPECT_NE(page.find("data-module=\"planemap/report.js\""), std::string::npos);
+  EXPECT_EQ(page.find("<!--planemap:"), std::string::npos);
+  EXPECT_NE(page.find("true camera (ground truth)"), std::string::npos);
+  // One table row per object of map.json.
+  const PlaneMap map = ReadPlaneMapJson(dir.File("m/map.json"));
+  ASSERT_FALSE(map.objects.empty());
+  size_t rows = 0;
+  for (size_t at = page.find("<tr data-object-id="); at != std::string::npos; at = page.find("<tr data-object-id=", at + 1)) ++rows;
+  EXPECT_EQ(rows, map.objects.size());
+  for (const MapObject& o : map.objects) {
+    EXPECT_NE(page.find("<tr data-object-id=\"" + std::to_string(o.id) + "\" data-class=\"" + o.label + "\""), std::string::npos) << o.id;
+  }
+}
+
+TEST(Cli, AnUnwritableReportIsNamedBeforeTheRun) {
+  TempDir dir;
+  const std::string report = dir.File("no_such_folder/approach.html");
+  const CommandRun approach = Planemap("approach --report " + report);
+  EXPECT_EQ(approach.exit_code, 1);
+  EXPECT_NE(approach.output.find("planemap approach: error: " + report + ": cannot write the report"), std::string::npos)
+      << approach.output;
+  EXPECT_EQ(std::count(approach.output.begin(), approach.output.end(), '\n'), 1) << approach.output;
+  const CommandRun map = Planemap("map " + dir.File("no_such_sequence") + " --report " + report);
+  EXPECT_EQ(map.exit_code, 1);
+  EXPECT_NE(map.output.find("planemap map: error: " + report + ": cannot write the report"), std::string::npos) << map.output;
+  const CommandRun table = Planemap("approach --table --seeds 1 --report " + dir.File("r.html"));
+  EXPECT_EQ(table.exit_code, 1);
+  EXPECT_NE(table.output.find("--report and --map are for a single run"), std::string::npos) << table.output;
 }
 
 }  // namespace

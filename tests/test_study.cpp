@@ -167,6 +167,47 @@ TEST_F(Study, RefusesToResumeIntoAFolderOfAStudyWithOtherSettings) {
   EXPECT_EQ(ReadRows(dir.File("other/runs.csv")).size(), 2u);
 }
 
+TEST(StudySweep, ViewingAngleAndObjectSizeChangeWhatIsRenderedAndScored) {
+  // The box scaled to 0.8 and 1.2 of its size (sitting on the floor) and seen from 30 and 60 deg
+  // off its +x face: each is found and measured against its scaled truth, within 1 cm.
+  TempDir dir;
+  const std::string study = dir.Write("study.yaml", R"(name: angle_size
+frames: 1
+seeds: 1
+backend: false
+sweep:
+  distance: [1.5]
+  viewing_angle_deg: [30, 60]
+  object_scale: [0.8, 1.2]
+)");
+  // The rendered box is the scaled one: 0.25 x 0.35 x 0.25 m times 1.2, still on the floor.
+  const sim::SceneObject& big = StudyScene(LoadStudy(study), 1.2).object("box");
+  EXPECT_NEAR(big.dimensions.x(), 0.30, 1e-9);
+  EXPECT_NEAR(big.dimensions.y(), 0.42, 1e-9);
+  EXPECT_NEAR(big.T_world_object.translation().z() - 0.5 * big.dimensions.z(), 0.0, 1e-9);
+  StudyOptions options = Options(study, dir.File("out"));
+  ASSERT_EQ(RunStudy(options), 0);
+  const std::vector<StudyRow> rows = ReadRows(dir.File("out/runs.csv"));
+  ASSERT_EQ(rows.size(), 4u);
+  for (const StudyRow& r : rows) {
+    SCOPED_TRACE("angle " + std::to_string(r.run.viewing_angle_deg) + ", scale " + std::to_string(r.run.object_scale));
+    ASSERT_TRUE(r.found) << r.note;
+    EXPECT_EQ(r.label, "box");
+    int measured = 0;
+    for (double e : r.dimension_error) {
+      if (std::isnan(e)) continue;
+      ++measured;
+      EXPECT_LT(std::abs(e), 0.01);
+    }
+    EXPECT_GE(measured, 2);
+    EXPECT_LT(r.center_error, 0.015);
+    EXPECT_LT(r.axis_error_deg, 2.0);
+  }
+  for (const char* plot : {"dimension_vs_viewing_angle.svg", "center_vs_object_scale.svg"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir.File(std::string("out/") + plot))) << plot;
+  }
+}
+
 TEST(StudyFile, ImpossibleViewpointsAndUnknownNamesAreErrorsNamingTheFile) {
   TempDir dir;
   const auto error = [&](const std::string& text) {

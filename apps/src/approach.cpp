@@ -234,6 +234,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
   }
   run.duration = robot.Time();
   run.reference = run.planned ? mission.ReferencePath() : run.reference;
+  run.footsteps = robot.Footsteps();
+  run.map = tracker.map();
   if (!run.planned || !target_truth) return run;
 
   // Scores against ground truth: where the robot should stand for the face it chose.

@@ -11,10 +11,14 @@
 #include <nlohmann/json.hpp>
 #include <omp.h>
 
+#include "app_report.h"
+#include "approach_plots.h"
+#include "planemap/apps/app_config.h"
 #include "planemap/apps/approach.h"
 #include "planemap/apps/commands.h"
 #include "planemap/core/error.h"
 #include "planemap/core/statistics.h"
+#include "planemap/io/plane_map_io.h"
 
 namespace planemap {
 namespace {
@@ -38,134 +42,115 @@ double Std(const std::vector<double>& v) {
   return v.size() < 2 ? 0.0 : std::sqrt(s / (v.size() - 1));
 }
 
-void PrintTiming(const ApproachRun& r, double rate) {
+std::string TimingLine(const ApproachRun& r, double rate) {
   std::vector<double> total;
   for (size_t i = 0; i < r.perception_ms.size(); ++i) {
     total.push_back(r.perception_ms[i] + r.estimation_ms[i] + (i < r.control_ms.size() ? r.control_ms[i] : 0.0));
   }
   const double budget = 1000.0 / rate;
-  std::printf("  time per frame (median, 95%%): perception %.1f, %.1f ms; estimation (tracking + sliding window) %.1f, %.1f ms; "
-              "control %.2f, %.2f ms; together %.1f, %.1f ms against %.1f ms at %.0f Hz: %s (rendering, the simulated sensor: %.1f ms)\n",
-              Percentile(r.perception_ms, 0.5), Percentile(r.perception_ms, 0.95), Percentile(r.estimation_ms, 0.5),
-              Percentile(r.estimation_ms, 0.95), Percentile(r.control_ms, 0.5), Percentile(r.control_ms, 0.95),
-              Percentile(total, 0.5), Percentile(total, 0.95), budget, rate,
-              Percentile(total, 0.5) <= budget ? "keeps up" : "too slow", Percentile(r.render_ms, 0.5));
+  return Printf("  time per frame (median, 95%%): perception %.1f, %.1f ms; estimation (tracking + sliding window) %.1f, %.1f ms; "
+                "control %.2f, %.2f ms; together %.1f, %.1f ms against %.1f ms at %.0f Hz: %s (rendering, the simulated sensor: %.1f ms)",
+                Percentile(r.perception_ms, 0.5), Percentile(r.perception_ms, 0.95), Percentile(r.estimation_ms, 0.5),
+                Percentile(r.estimation_ms, 0.95), Percentile(r.control_ms, 0.5), Percentile(r.control_ms, 0.95),
+                Percentile(total, 0.5), Percentile(total, 0.95), budget, rate,
+                Percentile(total, 0.5) <= budget ? "keeps up" : "too slow", Percentile(r.render_ms, 0.5));
 }
 
-void PrintRun(const ApproachOptions& o, const ApproachRun& r) {
-  std::printf("planemap approach: %s, scenario %d (%s), seed %d\n", o.scene.c_str(), r.scenario, kScenarioNames[r.scenario], r.seed);
+// What a run printed, line by line (the report's summary too).
+std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r) {
+  std::vector<std::string> lines;
+  lines.push_back(Printf("planemap approach: %s, scenario %d (%s), seed %d", o.scene.c_str(), r.scenario, kScenarioNames[r.scenario], r.seed));
   if (!r.planned) {
-    std::printf("  stopped before planning: %s\n", r.status.reason.c_str());
-    return;
+    lines.push_back(Printf("  stopped before planning: %s", r.status.reason.c_str()));
+    return lines;
   }
-  std::printf("  target: %s; pre-grasp pose planned at (%.3f, %.3f) m, heading %.1f deg\n", r.target.c_str(), r.pregrasp_planned.x,
-              r.pregrasp_planned.y, r.pregrasp_planned.theta * kRadToDeg);
-  std::printf("  stop  plan  phase      time s   estimate to path cm   truth to path cm\n");
+  lines.push_back(Printf("  target: %s; pre-grasp pose planned at (%.3f, %.3f) m, heading %.1f deg", r.target.c_str(), r.pregrasp_planned.x,
+                         r.pregrasp_planned.y, r.pregrasp_planned.theta * kRadToDeg));
+  lines.push_back("  stop  plan  phase      time s   estimate to path cm   truth to path cm");
   for (const ApproachStop& s : r.stops) {
-    std::printf("  %4d  %4d  %-8s  %7.1f   %19.1f   %16.1f\n", s.record.index, s.record.plan,
-                s.record.phase == nav::Phase::kPath ? "path" : "approach", s.record.time, 100 * s.record.distance_to_path,
-                100 * s.truth_to_path);
+    lines.push_back(Printf("  %4d  %4d  %-8s  %7.1f   %19.1f   %16.1f", s.record.index, s.record.plan,
+                           s.record.phase == nav::Phase::kPath ? "path" : "approach", s.record.time, 100 * s.record.distance_to_path,
+                           100 * s.truth_to_path));
   }
-  std::printf("  %s after %.1f s (%d frames, %d lost): %s\n", r.status.Reached() ? "reached" : "stopped", r.duration, r.frames,
-              r.lost_frames, r.status.reason.c_str());
-  std::printf("  average error %.1f cm; pre-grasp error: position %.1f cm, heading %.1f deg; grasp check: %s; collisions: %s\n",
-              100 * r.average_error, 100 * r.position_error, r.heading_error * kRadToDeg,
-              r.grasp_ok ? "ok" : ("failed: " + r.grasp_reason).c_str(), r.collided ? r.collision.c_str() : "none");
-  std::printf("  %s estimate at the end: centre %.1f cm off; along the grasp axis %.1f cm deep (true %.1f), %.1f cm across (true %.1f)\n",
-              r.target.c_str(), 100 * r.object_center_error, 100 * r.object_depth, 100 * r.object_depth_true,
-              100 * r.object_width, 100 * r.object_width_true);
-  PrintTiming(r, o.rate);
+  lines.push_back(Printf("  %s after %.1f s (%d frames, %d lost): %s", r.status.Reached() ? "reached" : "stopped", r.duration, r.frames,
+                         r.lost_frames, r.status.reason.c_str()));
+  lines.push_back(Printf("  average error %.1f cm; pre-grasp error: position %.1f cm, heading %.1f deg; grasp check: %s; collisions: %s",
+                         100 * r.average_error, 100 * r.position_error, r.heading_error * kRadToDeg,
+                         r.grasp_ok ? "ok" : ("failed: " + r.grasp_reason).c_str(), r.collided ? r.collision.c_str() : "none"));
+  lines.push_back(Printf("  %s estimate at the end: centre %.1f cm off; along the grasp axis %.1f cm deep (true %.1f), %.1f cm across (true %.1f)",
+                         r.target.c_str(), 100 * r.object_center_error, 100 * r.object_depth, 100 * r.object_depth_true,
+                         100 * r.object_width, 100 * r.object_width_true));
+  lines.push_back(TimingLine(r, o.rate));
+  return lines;
 }
 
-// --- SVG plots like the paper's Fig. 8 -------------------------------------------------------
-struct Series {
-  std::string color, label;
-  std::vector<Eigen::Vector2d> points;
-  bool dots = false;
-};
-
-void WriteSvg(const std::string& file, const std::string& title, const std::string& x_label, const std::string& y_label,
-              const std::vector<Series>& series, bool equal_axes) {
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(1e30), high = Eigen::Vector2d::Constant(-1e30);
-  for (const Series& s : series) {
-    for (const Eigen::Vector2d& p : s.points) {
-      low = low.cwiseMin(p);
-      high = high.cwiseMax(p);
-    }
+void WritePlots(const std::string& prefix, const std::vector<ApproachRun>& runs) {
+  for (const SvgPlot& plot : Fig8Plots(runs)) {
+    std::ofstream out(prefix + plot.suffix);
+    if (!out) ThrowInputError(prefix + plot.suffix, 0, "cannot write");
+    out << plot.svg;
   }
-  if (low.x() > high.x()) return;
-  if (!equal_axes) low.y() = std::min(low.y(), 0.0);
-  Eigen::Vector2d span = (high - low).cwiseMax(1e-6);
-  const double W = 520, H = 380, L = 60, B = 50, T = 30, R = 150;
-  double sx = (W - L - R) / span.x(), sy = (H - T - B) / span.y();
-  if (equal_axes) sx = sy = std::min(sx, sy);
-  auto X = [&](double x) { return L + (x - low.x()) * sx; };
-  auto Y = [&](double y) { return H - B - (y - low.y()) * sy; };
-  std::ofstream out(file);
-  if (!out) ThrowInputError(file, 0, "cannot write");
-  out << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='12'>\n"
-      << "<rect width='100%' height='100%' fill='white'/>\n<text x='" << L << "' y='18'>" << title << "</text>\n"
-      << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B << "' stroke='black'/>\n"
-      << "<line x1='" << L << "' y1='" << T << "' x2='" << L << "' y2='" << H - B << "' stroke='black'/>\n"
-      << "<text x='" << (L + W - R) / 2 << "' y='" << H - 12 << "' text-anchor='middle'>" << x_label << "</text>\n"
-      << "<text x='14' y='" << (T + H - B) / 2 << "' transform='rotate(-90 14 " << (T + H - B) / 2 << ")' text-anchor='middle'>" << y_label
-      << "</text>\n";
-  for (int i = 0; i <= 4; ++i) {
-    const double vx = low.x() + span.x() * i / 4, vy = low.y() + span.y() * i / 4;
-    char a[32], b[32];
-    std::snprintf(a, sizeof(a), "%.2f", vx);
-    std::snprintf(b, sizeof(b), "%.2f", vy);
-    out << "<text x='" << X(vx) << "' y='" << H - B + 16 << "' text-anchor='middle'>" << a << "</text>\n"
-        << "<text x='" << L - 6 << "' y='" << Y(vy) + 4 << "' text-anchor='end'>" << b << "</text>\n";
-  }
-  for (size_t k = 0; k < series.size(); ++k) {
-    const Series& s = series[k];
-    out << "<polyline fill='none' stroke='" << s.color << "' stroke-width='" << (s.dots ? 0 : 2) << "' points='";
-    for (const Eigen::Vector2d& p : s.points) out << X(p.x()) << ',' << Y(p.y()) << ' ';
-    out << "'/>\n";
-    if (s.dots) {
-      for (const Eigen::Vector2d& p : s.points) out << "<circle cx='" << X(p.x()) << "' cy='" << Y(p.y()) << "' r='3' fill='" << s.color << "'/>\n";
-    }
-    out << "<text x='" << W - R + 10 << "' y='" << T + 16 * (k + 1) << "' fill='" << s.color << "'>" << s.label << "</text>\n";
-  }
-  out << "</svg>\n";
 }
 
-void WritePlots(const std::string& prefix, const std::vector<ApproachRun>& first_seed_runs) {
-  const char* colors[] = {"", "red", "green", "blue"};
-  std::vector<Series> left, middle;
-  for (const ApproachRun& r : first_seed_runs) {
-    Series e{colors[r.scenario], "scenario " + std::to_string(r.scenario), {}, true}, t = e;
-    for (size_t i = 0; i < r.stops.size(); ++i) {
-      e.points.emplace_back(i + 1, 100 * r.stops[i].record.distance_to_path);
-      t.points.emplace_back(i + 1, 100 * r.stops[i].truth_to_path);
-    }
-    left.push_back(e);
-    middle.push_back(t);
+// The run's page: its map, the robot's paths and footsteps on the floor, the control points, and
+// the Fig. 8 plots. Colours as in the plots.
+void WriteRunReport(const ApproachCommandOptions& options, const ApproachRun& r, const std::vector<std::string>& lines,
+                    const ReportAssets& assets) {
+  ReportData report;
+  report.title = Printf("planemap approach: scenario %d (%s), seed %d", r.scenario, kScenarioNames[r.scenario], r.seed);
+  report.summary = lines;
+  const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.run.config));
+  AddMapToReport(r.map, config.frontend.graph, &report);
+  const auto positions = [](const std::vector<nav::Pose2>& poses) {
+    std::vector<Eigen::Vector2d> points;
+    for (const nav::Pose2& p : poses) points.push_back(p.Position());
+    return points;
+  };
+  report.paths.push_back({"reference path", "#808080", positions(r.reference), false});
+  report.paths.push_back({"true base path", "#1f5fbf", positions(r.truth_path), false});
+  report.paths.push_back({"estimated base path", "#ff8c00", positions(r.estimate_path), false});
+  ReportPath left{"left footsteps", "#6a3d9a", {}, true, 4.0}, right{"right footsteps", "#b39ddb", {}, true, 4.0};
+  for (const nav::Footstep& f : r.footsteps) (f.left ? left : right).points.push_back(f.foot.Position());
+  report.paths.push_back(left);
+  report.paths.push_back(right);
+  ReportPath estimate{"control points: estimate", "#c0392b", {}, true}, truth{"control points: truth", "#0b3d91", {}, true};
+  for (const ApproachStop& s : r.stops) {
+    estimate.points.push_back(s.record.estimate.Position());
+    truth.points.push_back(s.truth.Position());
   }
-  WriteSvg(prefix + "_estimate.svg", "Estimated position to the reference path (Fig. 8 left)", "control point", "distance [cm]", left, false);
-  WriteSvg(prefix + "_truth.svg", "True position to the reference path (Fig. 8 middle)", "control point", "distance [cm]", middle, false);
-  for (const ApproachRun& r : first_seed_runs) {
-    if (r.scenario != 3) continue;
-    std::vector<Series> top;
-    Series ref{"gray", "reference path", {}, false}, truth{"blue", "true path", {}, false}, est{"orange", "estimated path", {}, false};
-    for (const nav::Pose2& p : r.reference) ref.points.push_back(p.Position());
-    for (const nav::Pose2& p : r.truth_path) truth.points.push_back(p.Position());
-    for (const nav::Pose2& p : r.estimate_path) est.points.push_back(p.Position());
-    Series goal{"black", "true pre-grasp pose", {r.pregrasp_true.Position()}, true};
-    top = {ref, truth, est, goal};
-    WriteSvg(prefix + "_approach.svg", "Scenario 3 approach, seen from above (Fig. 8 right)", "x [m]", "y [m]", top, true);
-  }
+  report.paths.push_back(estimate);
+  report.paths.push_back(truth);
+  if (r.planned) report.paths.push_back({"true pre-grasp pose", "#000000", {r.pregrasp_true.Position()}, true});
+  for (const SvgPlot& plot : Fig8Plots({r})) report.plots.push_back({plot.title, plot.svg});
+  WriteHtmlReport(options.report, report, assets);
 }
 
 }  // namespace
 
 int RunApproach(const ApproachCommandOptions& options) {
   if (!options.table) {
+    ReportAssets assets;
+    if (!options.report.empty()) assets = PrepareReport(options.report);
     const ApproachRun r = RunApproachOnce(options.run);
-    PrintRun(options.run, r);
+    const std::vector<std::string> lines = RunLines(options.run, r);
+    for (const std::string& line : lines) std::printf("%s\n", line.c_str());
+    if (!options.map.empty()) {
+      std::ofstream out(options.map);
+      if (!out) ThrowInputError(options.map, 0, "cannot write");
+      out << PlaneMapJson(r.map) << "\n";
+      std::printf("  wrote %s\n", options.map.c_str());
+    }
+    if (!options.report.empty()) {
+      WriteRunReport(options, r, lines, assets);
+      std::printf("  wrote %s\n", options.report.c_str());
+    }
+    if (!options.plots.empty()) {
+      WritePlots(options.plots, {r});
+      std::printf("  wrote %s_*.svg\n", options.plots.c_str());
+    }
     return r.planned ? 0 : 1;
   }
+  if (!options.report.empty() || !options.map.empty()) throw InputError("--report and --map are for a single run, not --table");
   if (options.seeds < 1) throw InputError("--seeds must be 1 or more");
   // Every (scenario, seed) pair, in parallel; results in order whatever the scheduling.
   std::vector<ApproachRun> runs(3 * options.seeds);

@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
   map_cmd->add_flag("--refine", map.refine,
                     "Refine poses, planes and boxes jointly with the Ceres back end (batch) after tracking; writes "
                     "trajectory_refined.txt and a map.json with each box's standard deviations");
+  map_cmd->add_option("--report", map.report, "Write the run as a self-contained HTML page: 3-D map, trajectories, objects");
 
   planemap::ConsistencyOptions nees;
   CLI::App* nees_cmd = app.add_subcommand(
@@ -110,6 +111,9 @@ int main(int argc, char** argv) {
   approach_cmd->add_option("--threads", approach.threads, "Runs in parallel with --table (0: every core)")->capture_default_str();
   approach_cmd->add_option("--json", approach.json, "Write the table as JSON here");
   approach_cmd->add_option("--plots", approach.plots, "Write Fig. 8-like SVG plots with this path prefix");
+  approach_cmd->add_option("--report", approach.report,
+                           "Write the run as a self-contained HTML page: 3-D map, paths, footsteps, control points, plots");
+  approach_cmd->add_option("--map", approach.map, "Write the run's final map here (map.json format)");
 
   planemap::StudyOptions study;
   CLI::App* study_cmd = app.add_subcommand(
@@ -121,6 +125,8 @@ int main(int argc, char** argv) {
   study_cmd->add_option("--max-runs", study.max_runs, "Stop after this many new runs (0: all); run again to go on")
       ->capture_default_str();
   study_cmd->add_flag("--restart", study.restart, "Discard the output folder's finished runs");
+  study_cmd->add_option("--report", study.report,
+                        "Write the study as a self-contained HTML page: summary, plots and the first run's map in 3-D");
 
   planemap::EvalOptions eval;
   CLI::App* eval_cmd = app.add_subcommand(

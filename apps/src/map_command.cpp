@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "app_report.h"
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/backend/backend.h"
@@ -48,6 +49,8 @@ int RunMap(const MapOptions& options) {
   if (options.anchor != "auto" && options.anchor != "groundtruth" && options.anchor != "first") {
     throw InputError("--anchor must be auto, groundtruth or first, not '" + options.anchor + "'");
   }
+  ReportAssets report_assets;
+  if (!options.report.empty()) report_assets = PrepareReport(options.report);
   CameraIntrinsics camera;
   if (!options.camera.empty()) {
     camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
@@ -90,6 +93,7 @@ int RunMap(const MapOptions& options) {
   int counts[3] = {0, 0, 0}, unreadable = 0;
   double cloud_points = 0.0;  // valid pixels of every frame used
   std::vector<double> frontend_ms, tracking_ms, window_ms;
+  Trajectory tracked, truth;  // for the report; the truth when the map is in its world
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   for (size_t i = 0; i < frames; i += options.stride) {
@@ -115,6 +119,8 @@ int RunMap(const MapOptions& options) {
     window_ms.push_back(std::chrono::duration<double, std::milli>(t3 - t2).count());
     ++counts[static_cast<int>(r.status)];
     trajectory << FormatTumPose({frame.stamp, r.T_world_camera}) << "\n" << std::flush;
+    tracked.push_back({frame.stamp, r.T_world_camera});
+    if (anchored && sequence.entry(i).T_world_camera) truth.push_back({frame.stamp, *sequence.entry(i).T_world_camera});
     smoothed << FormatTumPose({frame.stamp, T_smoothed}) << "\n" << std::flush;
     std::string reason = r.reason;
     std::replace(reason.begin(), reason.end(), ',', ';');
@@ -127,17 +133,24 @@ int RunMap(const MapOptions& options) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::fprintf(stderr, "\n");
 
+  // Result lines go to stdout and into the report's summary.
+  std::vector<std::string> summary;
+  const auto say = [&summary](std::string line) {
+    std::printf("%s\n", line.c_str());
+    summary.push_back(std::move(line));
+  };
   PlaneMap map = tracker.map();
+  Trajectory refined_poses;
   if (options.refine) {
     // The batch back end over every frame tracking kept, before landmarks are renumbered.
     const std::vector<FrameObservations>& frames_seen = tracker.observations();
     const BatchResult batch = RefineBatch(map, frames_seen, config.backend);
     const SolveReport& s = batch.report;
-    std::printf("refine: %d poses, %d planes, %d boxes, %d residual blocks (%d plane observations, %d dropped as outliers)\n", s.poses,
-                s.landmarks, s.cuboids, s.residual_blocks, s.observations, s.outliers);
-    std::printf("refine: %s, %d iterations, %.3f s (%.2f ms per iteration), cost %.4g -> %.4g, %s; covariances %.3f s\n",
-                s.linear_solver.c_str(), s.iterations, s.seconds, 1000 * s.seconds_per_iteration, s.initial_cost, s.final_cost,
-                s.termination.c_str(), s.covariance_seconds);
+    say(Printf("refine: %d poses, %d planes, %d boxes, %d residual blocks (%d plane observations, %d dropped as outliers)", s.poses,
+               s.landmarks, s.cuboids, s.residual_blocks, s.observations, s.outliers));
+    say(Printf("refine: %s, %d iterations, %.3f s (%.2f ms per iteration), cost %.4g -> %.4g, %s; covariances %.3f s",
+               s.linear_solver.c_str(), s.iterations, s.seconds, 1000 * s.seconds_per_iteration, s.initial_cost, s.final_cost,
+               s.termination.c_str(), s.covariance_seconds));
     std::ofstream(out / "refine_report.txt") << s.full;
     if (!s.usable) {
       std::fprintf(stderr, "planemap map: the back end failed (%s): map.json and the trajectory keep tracking's estimate\n",
@@ -148,7 +161,8 @@ int RunMap(const MapOptions& options) {
       std::ofstream refined(out / "trajectory_refined.txt");
       refined << "# planemap map --refine " << options.sequence << ": T_world_camera (batch back end), world = " << world
               << "\n# timestamp tx ty tz qx qy qz qw\n";
-      for (size_t k = 0; k < frames_seen.size(); ++k) refined << FormatTumPose({frames_seen[k].stamp, batch.poses[k]}) << "\n";
+      for (size_t k = 0; k < frames_seen.size(); ++k) refined_poses.push_back({frames_seen[k].stamp, batch.poses[k]});
+      for (const StampedPose& pose : refined_poses) refined << FormatTumPose(pose) << "\n";
       if (!refined) ThrowInputError(options.out, 0, "cannot write trajectory_refined.txt");
     }
   }
@@ -160,23 +174,34 @@ int RunMap(const MapOptions& options) {
   // The map's size next to a point cloud of the same run (every valid pixel of every frame, as
   // xyz floats): the paper's argument for planes.
   const int tracked_frames = counts[0] + counts[1] + counts[2];
-  std::printf("frames %d: tracked %d, degraded %d, lost %d, unreadable %d\n", tracked_frames, counts[0], counts[1], counts[2], unreadable);
-  std::printf("map: %zu planes (%d duplicates fused), %zu edges, %zu objects, %zu keyframes, %.1f kB (a point cloud of the same frames: %.1f MB)\n",
-              map.landmarks.size(), fused, map.edges.size(), map.objects.size(), map.keyframes.size(), map.MemoryBytes() / 1024.0,
-              cloud_points * 3 * sizeof(float) / (1024.0 * 1024.0));
+  say(Printf("frames %d: tracked %d, degraded %d, lost %d, unreadable %d", tracked_frames, counts[0], counts[1], counts[2], unreadable));
+  say(Printf("map: %zu planes (%d duplicates fused), %zu edges, %zu objects, %zu keyframes, %.1f kB (a point cloud of the same frames: %.1f MB)",
+             map.landmarks.size(), fused, map.edges.size(), map.objects.size(), map.keyframes.size(), map.MemoryBytes() / 1024.0,
+             cloud_points * 3 * sizeof(float) / (1024.0 * 1024.0)));
   for (const MapObject& o : map.objects) {
-    std::printf("  object %d: %s, %.3f x %.3f x %.3f m%s, centre (%.3f, %.3f, %.3f), seen %d times\n", o.id, o.label.c_str(),
-                o.dimensions.x(), o.dimensions.y(), o.dimensions.z(),
-                (o.dimension_complete[0] && o.dimension_complete[1] && o.dimension_complete[2]) ? "" : " (some lower bounds)",
-                o.center.x(), o.center.y(), o.center.z(), o.observations);
-    if (o.uncertainty.known) std::printf("    %s\n", UncertaintyText(o.uncertainty).c_str());
+    say(Printf("  object %d: %s, %.3f x %.3f x %.3f m%s, centre (%.3f, %.3f, %.3f), seen %d times", o.id, o.label.c_str(),
+               o.dimensions.x(), o.dimensions.y(), o.dimensions.z(),
+               (o.dimension_complete[0] && o.dimension_complete[1] && o.dimension_complete[2]) ? "" : " (some lower bounds)",
+               o.center.x(), o.center.y(), o.center.z(), o.observations));
+    if (o.uncertainty.known) say("    " + UncertaintyText(o.uncertainty));
   }
-  std::printf("speed: frontend %.1f ms median (95%% %.1f), tracking %.1f ms median (95%% %.1f), sliding window %.1f ms median "
-              "(95%% %.1f), %.1f frames/s overall\n",
-              Percentile(frontend_ms, 0.5), Percentile(frontend_ms, 0.95), Percentile(tracking_ms, 0.5),
-              Percentile(tracking_ms, 0.95), Percentile(window_ms, 0.5), Percentile(window_ms, 0.95), tracked_frames / std::max(seconds, 1e-9));
+  say(Printf("speed: frontend %.1f ms median (95%% %.1f), tracking %.1f ms median (95%% %.1f), sliding window %.1f ms median "
+             "(95%% %.1f), %.1f frames/s overall",
+             Percentile(frontend_ms, 0.5), Percentile(frontend_ms, 0.95), Percentile(tracking_ms, 0.5),
+             Percentile(tracking_ms, 0.95), Percentile(window_ms, 0.5), Percentile(window_ms, 0.95), tracked_frames / std::max(seconds, 1e-9)));
   std::fprintf(stderr, "  wrote %s/trajectory.txt, trajectory_smoothed.txt, tracking.csv, map.json, map.ply%s\n", options.out.c_str(),
                options.refine ? ", trajectory_refined.txt, refine_report.txt" : "");
+  if (!options.report.empty()) {
+    ReportData report;
+    report.title = "planemap map: " + options.sequence;
+    report.summary = summary;
+    AddMapToReport(map, config.frontend.graph, &report);
+    report.trajectories = {{"tracked camera", "#ff8c00", tracked}};
+    if (!refined_poses.empty()) report.trajectories.push_back({"refined camera (batch back end)", "#2ca02c", refined_poses});
+    if (!truth.empty()) report.trajectories.push_back({"true camera (ground truth)", "#1f5fbf", truth});
+    WriteHtmlReport(options.report, report, report_assets);
+    std::fprintf(stderr, "  wrote %s\n", options.report.c_str());
+  }
   return 0;
 }
 

@@ -130,6 +130,10 @@ StudyRow Score(const StudyRun& run, const std::string& stage, const PlaneMap& ma
 
 }  // namespace
 
+sim::Scene StudyScene(const StudyConfig& study, double object_scale) {
+  return ScaledScene(ResolveConfigPath(study.scene), study.object, object_scale);
+}
+
 StudyConfig LoadStudy(const std::string& file) {
   StudyConfig study = LoadConfigFile<StudyConfig>(file);
   const StudySweep& s = study.sweep;
@@ -151,7 +155,7 @@ StudyConfig LoadStudy(const std::string& file) {
   LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));  // a bad pipeline file fails now
   for (const StudyRun& run : StudyRuns(study)) {
     if (run.seed != 1) continue;
-    const sim::Scene scaled = ScaledScene(ResolveConfigPath(study.scene), study.object, run.object_scale);
+    const sim::Scene scaled = StudyScene(study, run.object_scale);
     for (int k = 0; k < study.frames; ++k) {
       const Eigen::Vector3d eye = Eye(study, run, scaled.object(study.object), k);
       const std::string problem = ViewpointProblem(scaled, eye);
@@ -183,13 +187,13 @@ std::vector<StudyRun> StudyRuns(const StudyConfig& study) {
   return runs;
 }
 
-std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run) {
+std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run, StudyRunMap* seen) {
   AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));
   config.frontend.segmentation.method = run.segmenter;
   config.render.noise.sigma_coefficient *= run.noise;
   config.render.noise.gaussian = config.render.noise.gaussian && run.noise > 0.0;
   const CameraIntrinsics camera = LoadCameraIntrinsics(ResolveConfigPath(study.camera));
-  const sim::Scene scene = ScaledScene(ResolveConfigPath(study.scene), study.object, run.object_scale);
+  const sim::Scene scene = StudyScene(study, run.object_scale);
   const sim::SceneObject& object = scene.object(study.object);
   const sim::VirtualCamera sensor(scene, camera, config.render);
   const Frontend frontend(camera, config.frontend, LoadPatterns(ResolveConfigPath(study.patterns)));
@@ -238,6 +242,15 @@ std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run
     rows.push_back(Score(run, "backend", usable ? batch.map : tracker->map(), truth, config.eval));
     rows.back().pose_error = largest_error(usable ? batch.poses : tracked_poses);
     if (!usable) rows.back().note = "back end failed (" + batch.report.termination + "): tracking's map";
+  }
+  if (seen) {
+    seen->map = tracker->map();
+    seen->truth.clear();
+    seen->tracked.clear();
+    for (size_t k = 0; k < truth_poses.size(); ++k) {
+      seen->truth.push_back({k * study.frame_interval, truth_poses[k]});
+      seen->tracked.push_back({k * study.frame_interval, tracked_poses[k]});
+    }
   }
   for (StudyRow& row : rows) {
     row.source = scene.name;
@@ -312,25 +325,43 @@ std::string StudySummaryCsv(const std::vector<StudyRow>& rows) {
   return csv.str();
 }
 
-void PrintStudySummary(const std::vector<StudyRow>& rows) {
-  std::printf("  %-10s %6s %6s %5s %5s %-9s %-8s %5s %5s | %-13s | %-13s | %-13s | %-13s | %s\n", "source", "dist m", "angle",
-              "noise", "scale", "segmenter", "stage", "found", "class", "dimension cm", "centre cm", "axis deg",
-              "grasp axis deg", "pose cm");
-  std::printf("  %-10s %6s %6s %5s %5s %-9s %-8s %5s %5s |", "", "", "deg", "", "", "", "", "", "");
-  for (int k = 0; k < 5; ++k) std::printf(" %6s %6s%s", "median", "p90", k < 4 ? " |" : "\n");
+std::vector<std::string> StudySummaryLines(const std::vector<StudyRow>& rows) {
+  std::vector<std::string> lines;
+  char text[512];
+  std::snprintf(text, sizeof(text), "%-10s %6s %6s %5s %5s %-9s %-8s %5s %5s | %-13s | %-13s | %-13s | %-13s | %s", "source",
+                "dist m", "angle", "noise", "scale", "segmenter", "stage", "found", "class", "dimension cm", "centre cm",
+                "axis deg", "grasp axis deg", "pose cm");
+  lines.push_back(text);
+  std::string line;
+  std::snprintf(text, sizeof(text), "%-10s %6s %6s %5s %5s %-9s %-8s %5s %5s |", "", "", "deg", "", "", "", "", "", "");
+  line = text;
+  for (int k = 0; k < 5; ++k) {
+    std::snprintf(text, sizeof(text), " %6s %6s%s", "median", "p90", k < 4 ? " |" : "");
+    line += text;
+  }
+  lines.push_back(line);
   auto shown = [](const std::string& field) { return field.empty() ? std::string("-") : field; };
   auto share = [](int count, int of) { return of ? std::to_string(count) + "/" + std::to_string(of) : std::string("-"); };
   for (const SummaryCell& cell : SummaryCells(rows)) {
     const StudyErrors& e = cell.errors;
-    std::printf("  %-10s %6s %6s %5s %5s %-9s %-8s %5s %5s |", shown(cell.key[0]).c_str(), shown(cell.key[1]).c_str(),
-                shown(cell.key[2]).c_str(), shown(cell.key[3]).c_str(), shown(cell.key[4]).c_str(), shown(cell.key[5]).c_str(),
-                cell.key[6].c_str(), share(e.found, e.scored).c_str(), share(e.class_ok, e.scored).c_str());
+    std::snprintf(text, sizeof(text), "%-10s %6s %6s %5s %5s %-9s %-8s %5s %5s |", shown(cell.key[0]).c_str(),
+                  shown(cell.key[1]).c_str(), shown(cell.key[2]).c_str(), shown(cell.key[3]).c_str(),
+                  shown(cell.key[4]).c_str(), shown(cell.key[5]).c_str(), cell.key[6].c_str(),
+                  share(e.found, e.scored).c_str(), share(e.class_ok, e.scored).c_str());
+    line = text;
     for (const std::vector<double>* values : {&e.dimension, &e.center, &e.axis, &e.grasp_axis, &e.pose}) {
       const std::array<double, 2> q = Quantiles(*values);
-      std::printf(" %6s %6s%s", shown(Number(q[0], "%.2f")).c_str(), shown(Number(q[1], "%.2f")).c_str(),
-                  values == &e.pose ? "\n" : " |");
+      std::snprintf(text, sizeof(text), " %6s %6s%s", shown(Number(q[0], "%.2f")).c_str(), shown(Number(q[1], "%.2f")).c_str(),
+                    values == &e.pose ? "" : " |");
+      line += text;
     }
+    lines.push_back(line);
   }
+  return lines;
+}
+
+void PrintStudySummary(const std::vector<StudyRow>& rows) {
+  for (const std::string& line : StudySummaryLines(rows)) std::printf("  %s\n", line.c_str());
 }
 
 std::string StudyCsvHeader() {

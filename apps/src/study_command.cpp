@@ -12,12 +12,14 @@
 
 #include <omp.h>
 
+#include "app_report.h"
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/apps/study.h"
 #include "planemap/apps/svg_plot.h"
 #include "planemap/core/error.h"
 #include "planemap/core/statistics.h"
+#include "planemap/io/plane_map_io.h"
 
 namespace fs = std::filesystem;
 
@@ -120,7 +122,7 @@ std::map<int, std::vector<std::string>> ReadFinishedRuns(const fs::path& csv, co
 
 // Plots of each error against each swept variable with more than one value: median (solid) and
 // 90th percentile (dashed) per segmenter and stage, pooled over the other variables.
-std::vector<std::string> WritePlots(const fs::path& out, const StudyConfig& study, const std::vector<StudyRow>& rows) {
+std::vector<ReportPlot> WritePlots(const fs::path& out, const StudyConfig& study, const std::vector<StudyRow>& rows) {
   struct Variable {
     const char* name;
     const char* label;
@@ -144,7 +146,7 @@ std::vector<std::string> WritePlots(const fs::path& out, const StudyConfig& stud
                             {"center", "centre error [cm]", &StudyErrors::center},
                             {"axis", "axis error [deg]", &StudyErrors::axis}};
   const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
-  std::vector<std::string> written;
+  std::vector<ReportPlot> written;
   for (const Variable& v : variables) {
     if (v.values < 2) continue;
     // series key (segmenter, stage) -> x -> group
@@ -171,7 +173,7 @@ std::vector<std::string> WritePlots(const fs::path& out, const StudyConfig& stud
       }
       const fs::path file = out / (std::string(m.name) + "_vs_" + v.name + ".svg");
       WritePlotSvg(file.string(), plot);
-      written.push_back(file.filename().string());
+      written.push_back({file.filename().string(), PlotSvg(plot)});
     }
   }
   return written;
@@ -186,6 +188,8 @@ int RunStudy(const StudyOptions& options) {
   const int stages = study.backend ? 2 : 1;
   if (options.max_runs < 0) throw InputError("--max-runs must be 0 (all) or more");
 
+  ReportAssets report_assets;
+  if (!options.report.empty()) report_assets = PrepareReport(options.report);  // fails before the runs
   const fs::path out(options.out.empty() ? "out/study_" + study.name : options.out);
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -289,10 +293,32 @@ int RunStudy(const StudyOptions& options) {
               study.scene.c_str(), study.object.c_str(), study.frames, study.frames == 1 ? "" : "s");
   PrintStudySummary(rows);
   WriteFileAtomically(out / "summary.csv", StudySummaryCsv(rows));
-  const std::vector<std::string> plots = WritePlots(out, study, rows);
+  const std::vector<ReportPlot> plots = WritePlots(out, study, rows);
   std::printf("  wrote %s, %s", csv.string().c_str(), (out / "summary.csv").string().c_str());
-  for (const std::string& p : plots) std::printf(", %s", p.c_str());
+  for (const ReportPlot& p : plots) std::printf(", %s", p.title.c_str());
   std::printf("\n");
+  if (!options.report.empty()) {
+    // The page: the summary table, the plots, and in 3-D what the first run saw (run again: a
+    // run is deterministic, and its map is not kept in the CSV).
+    StudyRunMap seen;
+    RunStudyCell(study, runs.front(), &seen);
+    ReportData report;
+    report.title = "planemap study " + study.name;
+    report.summary.push_back(Printf("%zu runs of %s, object '%s', %d frames per run; the 3-D view is run 0 (distance %g m, "
+                                    "viewing angle %g deg, noise x%g, size x%g, %s, seed %d)",
+                                    runs.size(), study.scene.c_str(), study.object.c_str(), study.frames, runs[0].distance,
+                                    runs[0].viewing_angle_deg, runs[0].noise, runs[0].object_scale,
+                                    runs[0].segmenter.c_str(), runs[0].seed));
+    for (const std::string& line : StudySummaryLines(rows)) report.summary.push_back(line);
+    const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));
+    AddMapToReport(seen.map, config.frontend.graph, &report);
+    report.trajectories = {{"tracked camera (run 0)", "#ff8c00", seen.tracked}, {"true camera (run 0)", "#1f5fbf", seen.truth}};
+    report.plots = plots;
+    WriteHtmlReport(options.report, report, report_assets);
+    const fs::path map_file = out / "run0_map.json";
+    std::ofstream(map_file) << PlaneMapJson(seen.map) << "\n";
+    std::printf("  wrote %s, %s (the map it shows)\n", options.report.c_str(), map_file.string().c_str());
+  }
   return 0;
 }
 

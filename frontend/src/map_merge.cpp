@@ -299,6 +299,15 @@ void RebuildObjects(const ObjectModel& model, double object_match_distance, Plan
   map->objects = std::move(rebuilt);
 }
 
+std::vector<Eigen::Vector3d> MapCorners(const PlaneMap& map, const PlaneGraphConfig& config) {
+  Cloud cloud;
+  FrameModel graph = MapGraph(map, config, &cloud);
+  AggregateObjects(config, &graph);
+  std::vector<Eigen::Vector3d> corners;
+  for (const TrihedralAngle& angle : graph.angles) corners.push_back(angle.corner);
+  return corners;
+}
+
 MapMergeResult MergeMaps(const PlaneMap& target, const PlaneMap& source, const Pose3& T_guess,
                          const MapMergeConfig& config, const ObjectModel& model) {
   ValidateConfig(config, "merge.");

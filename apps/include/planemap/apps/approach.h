@@ -9,8 +9,10 @@
 
 #include <Eigen/Core>
 
+#include "planemap/core/plane_map.h"
 #include "planemap/nav/mission.h"
 #include "planemap/nav/pose2.h"
+#include "planemap/nav/simulated_humanoid.h"
 
 namespace planemap {
 
@@ -65,6 +67,8 @@ struct ApproachRun {
   // For plots: reference path, true and estimated base positions per frame, the true target.
   std::vector<nav::Pose2> reference, truth_path, estimate_path;
   nav::Pose2 pregrasp_true, pregrasp_planned;
+  std::vector<nav::Footstep> footsteps;  // where the feet really landed
+  PlaneMap map;                          // the tracker's map at the end
 };
 
 // One closed-loop run. Throws InputError for unreadable inputs or bad options.

@@ -49,6 +49,7 @@ struct MapOptions {
   int max_frames = -1;          // < 0: all
   int stride = 1;               // use every n-th frame
   bool refine = false;          // batch back end after tracking: trajectory_refined.txt, map.json refined
+  std::string report;           // the run as a self-contained HTML page; empty: none
 };
 
 struct EvalOptions {
@@ -77,6 +78,7 @@ struct StudyOptions {
   int threads = 0;       // runs in parallel (0: every core)
   int max_runs = 0;      // stop after this many new runs (0: all); run again to go on
   bool restart = false;  // discard the folder's finished runs
+  std::string report;    // the study as an HTML page (summary, plots, the first run's map); empty: none
 };
 
 struct ApproachCommandOptions {
@@ -86,6 +88,8 @@ struct ApproachCommandOptions {
   int threads = 0;      // runs in parallel (0: every core)
   std::string json;     // the table as JSON; empty: none
   std::string plots;    // Fig. 8 as SVG files with this path prefix; empty: none
+  std::string report;   // a single run as a self-contained HTML page; empty: none
+  std::string map;      // a single run's final map as map.json; empty: none
 };
 
 int RunApproach(const ApproachCommandOptions& options);

@@ -11,6 +11,9 @@
 #include <vector>
 
 #include "planemap/core/config.h"
+#include "planemap/core/plane_map.h"
+#include "planemap/core/tum_format.h"
+#include "planemap/sim/scene.h"
 
 namespace planemap {
 
@@ -111,9 +114,19 @@ StudyConfig LoadStudy(const std::string& file);
 // Every run of the study, in index order.
 std::vector<StudyRun> StudyRuns(const StudyConfig& study);
 
+// The scene a run renders: the study's scene with its object's dimensions scaled by
+// `object_scale` about its centre's footprint, its bottom kept where it was (on the floor).
+sim::Scene StudyScene(const StudyConfig& study, double object_scale);
+
+// What a run saw, for a report: the map after tracking, the true and the tracked camera poses.
+struct StudyRunMap {
+  PlaneMap map;
+  Trajectory truth, tracked;
+};
+
 // Renders, maps and scores one run: one row, two with the back end. Single-threaded and
-// deterministic; throws InputError for unreadable inputs.
-std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run);
+// deterministic; throws InputError for unreadable inputs. `seen`, if given, receives the map.
+std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run, StudyRunMap* seen = nullptr);
 
 // The errors of a set of rows, absolute: dimensions (every edge measured) and centres [cm], axes
 // [deg].
@@ -129,6 +142,7 @@ struct StudyErrors {
 // camera's pose error. As CSV, and
 // printed as a table on stdout.
 std::string StudySummaryCsv(const std::vector<StudyRow>& rows);
+std::vector<std::string> StudySummaryLines(const std::vector<StudyRow>& rows);
 void PrintStudySummary(const std::vector<StudyRow>& rows);
 
 // The CSV of runs: one header, one line per row, units named in the header (cm, deg).

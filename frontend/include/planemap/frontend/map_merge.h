@@ -104,4 +104,8 @@ int FuseDuplicateLandmarks(const MapMergeConfig& config, PlaneMap* map);
 // edge bounds it; old objects the graph no longer forms are kept as they were.
 void RebuildObjects(const ObjectModel& model, double object_match_distance, PlaneMap* map);
 
+// The trihedral corners of the map's graph (3-cycles of landmarks joined by map edges, as
+// RebuildObjects finds them), world [m]: for display.
+std::vector<Eigen::Vector3d> MapCorners(const PlaneMap& map, const PlaneGraphConfig& config);
+
 }  // namespace planemap

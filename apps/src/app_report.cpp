@@ -1,0 +1,35 @@
+#include "app_report.h"
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "planemap/frontend/map_merge.h"
+#include "planemap/frontend/plane_outline.h"
+
+namespace planemap {
+
+std::string Printf(const char* format, ...) {
+  va_list args, copy;
+  va_start(args, format);
+  va_copy(copy, args);
+  const int n = std::vsnprintf(nullptr, 0, format, copy);
+  va_end(copy);
+  std::string text(n > 0 ? n : 0, '\0');
+  if (n > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
+  va_end(args);
+  return text;
+}
+
+ReportAssets PrepareReport(const std::string& file) {
+  CheckReportWritable(file);
+  return LoadReportAssets(std::string(PLANEMAP_SOURCE_DIR) + "/web");
+}
+
+void AddMapToReport(const PlaneMap& map, const PlaneGraphConfig& graph, ReportData* report) {
+  report->map = &map;
+  report->plane_outlines.clear();
+  for (const PlaneLandmark& l : map.landmarks) report->plane_outlines.push_back(PlaneOutline(l));
+  report->corners = MapCorners(map, graph);
+}
+
+}  // namespace planemap
