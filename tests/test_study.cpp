@@ -181,7 +181,8 @@ sweep:
   object_scale: [0.8, 1.2]
 )");
   // The rendered box is the scaled one: 0.25 x 0.35 x 0.25 m times 1.2, still on the floor.
-  const sim::SceneObject& big = StudyScene(LoadStudy(study), 1.2).object("box");
+  const sim::Scene scaled = StudyScene(LoadStudy(study), 1.2);
+  const sim::SceneObject& big = scaled.object("box");
   EXPECT_NEAR(big.dimensions.x(), 0.30, 1e-9);
   EXPECT_NEAR(big.dimensions.y(), 0.42, 1e-9);
   EXPECT_NEAR(big.T_world_object.translation().z() - 0.5 * big.dimensions.z(), 0.0, 1e-9);
