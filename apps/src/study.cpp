@@ -1,10 +1,11 @@
 #include "planemap/apps/study.h"
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "planemap/apps/app_config.h"

@@ -1,5 +1,6 @@
 // planemap study: runs a study's sweep in parallel into a resumable CSV, then prints and writes
 // the summary table and plots.
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -100,7 +101,8 @@ std::map<int, std::vector<std::string>> ReadFinishedRuns(const fs::path& csv, co
     }
     const StudyRun& run = runs[row.run.index];
     if (row.run.segmenter != run.segmenter || row.run.seed != run.seed || row.run.distance != run.distance ||
-        row.run.noise != run.noise) {
+        row.run.viewing_angle_deg != run.viewing_angle_deg || row.run.noise != run.noise ||
+        row.run.object_scale != run.object_scale) {
       ++*dropped;
       continue;
     }
@@ -118,7 +120,7 @@ std::map<int, std::vector<std::string>> ReadFinishedRuns(const fs::path& csv, co
   return finished;
 }
 
-// --- summary ------------------------------------------------------------------------------------
+// --- plots --------------------------------------------------------------------------------------
 
 // Plots of each error against each swept variable with more than one value: median (solid) and
 // 90th percentile (dashed) per segmenter and stage, pooled over the other variables.
