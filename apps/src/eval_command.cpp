@@ -39,8 +39,6 @@ Pose3 ObjectAlignment(const TrajectoryEvaluation& result, const std::string& mod
   ThrowInputError(config_file, 0, "eval.object_alignment must be first_pose, ate or none, not '" + mode + "'");
 }
 
-// The class the frontend's patterns give a scene object type.
-std::string ExpectedClass(const std::string& type) { return type == "open_locker" ? "locker" : type; }
 
 // --- output -------------------------------------------------------------------------------------
 
@@ -191,17 +189,8 @@ std::vector<StudyRow> StudyRows(const EvalOptions& options, const EvalConfig& co
     StudyRow row = base;
     row.source = objects->scene + ":" + e.name;
     row.run.index = static_cast<int>(rows.size());
-    row.found = e.found();
-    if (row.found) {
-      row.label = objects->estimates[e.estimate].label;
-      row.class_ok = row.label == ExpectedClass(e.type);
-      for (int k = 0; k < 3; ++k) row.dimension_error[k] = e.true_edge_error[k];
-      row.center_error = e.center_error;
-      row.axis_error_deg = e.axis_error_deg;
-      row.grasp_axis_error_deg = e.grasp_axis_error_deg;
-    } else {
-      row.note = "not found";
-    }
+    ScoreObject(e, objects->estimates, &row);
+    if (!row.found) row.note = "not found";
     rows.push_back(row);
   }
   if (rows.empty()) {

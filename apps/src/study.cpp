@@ -45,8 +45,6 @@ sim::Scene ScaledScene(const std::string& file, const std::string& object, doubl
   return sim::ParseScene(root, file);
 }
 
-// The class the patterns give a scene object type.
-std::string ExpectedClass(const std::string& type) { return type == "open_locker" ? "locker" : type; }
 
 // Camera position of frame `k` of a run: on a circle around the object at the run's distance.
 Eigen::Vector3d Eye(const StudyConfig& study, const StudyRun& run, const sim::SceneObject& object, int k) {
@@ -113,23 +111,26 @@ StudyRow Score(const StudyRun& run, const std::string& stage, const PlaneMap& ma
   row.run = run;
   row.stage = stage;
   const std::vector<ObjectEstimate> estimates = MapObjectEstimates(map);
-  const ObjectError e = EvaluateObjects({truth}, estimates, eval).front();
-  row.found = e.found();
+  ScoreObject(EvaluateObjects({truth}, estimates, eval).front(), estimates, &row);
   if (!row.found) {
     row.note = "no map object within " + Short(eval.max_object_distance) + " m of the true centre (" +
                std::to_string(estimates.size()) + " objects mapped)";
-    return row;
   }
-  row.label = estimates[e.estimate].label;
-  row.class_ok = row.label == ExpectedClass(truth.type);
-  for (int k = 0; k < 3; ++k) row.dimension_error[k] = e.true_edge_error[k];
-  row.center_error = e.center_error;
-  row.axis_error_deg = e.axis_error_deg;
-  row.grasp_axis_error_deg = e.grasp_axis_error_deg;
   return row;
 }
 
 }  // namespace
+
+void ScoreObject(const ObjectError& e, const std::vector<ObjectEstimate>& estimates, StudyRow* row) {
+  row->found = e.found();
+  if (!row->found) return;
+  row->label = estimates[e.estimate].label;
+  row->class_ok = row->label == ExpectedClass(e.type);
+  for (int k = 0; k < 3; ++k) row->dimension_error[k] = e.true_edge_error[k];
+  row->center_error = e.center_error;
+  row->axis_error_deg = e.axis_error_deg;
+  row->grasp_axis_error_deg = e.grasp_axis_error_deg;
+}
 
 sim::Scene StudyScene(const StudyConfig& study, double object_scale) {
   return ScaledScene(ResolveConfigPath(study.scene), study.object, object_scale);
@@ -230,10 +231,9 @@ std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run
   };
 
   ObjectTruth truth;
-  truth.name = object.name;
-  truth.type = object.type;
-  truth.T_world_object = object.T_world_object;
-  truth.dimensions = object.dimensions;
+  for (const ObjectTruth& t : sim::ObjectTruths(scene)) {
+    if (t.name == object.name) truth = t;
+  }
   std::vector<StudyRow> rows{Score(run, "tracking", tracker->map(), truth, config.eval)};
   rows.back().pose_error = largest_error(tracked_poses);
   if (study.backend) {

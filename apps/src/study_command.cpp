@@ -1,6 +1,6 @@
 // planemap study: runs a study's sweep in parallel into a resumable CSV, then prints and writes
 // the summary table and plots.
-#include <algorithm>
+#include <array>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -68,19 +68,19 @@ void WriteFileAtomically(const fs::path& file, const std::string& text) {
   if (ec) ThrowInputError(file.string(), 0, "cannot replace: " + ec.message());
 }
 
-// A row's stage (its 9th field).
-std::string StageOf(const std::string& line) {
-  size_t begin = 0;
-  for (int k = 0; k < 8; ++k) begin = line.find(',', begin) + 1;
-  return line.substr(begin, line.find(',', begin) - begin);
-}
+// A finished run as read back: its rows (and their lines) by stage, tracking first.
+struct FinishedRun {
+  std::array<std::string, 2> lines;
+  std::array<StudyRow, 2> rows;
+  int stages = 0;     // rows read
+  bool twice = false;  // a stage came twice: not a run this tool wrote
+};
 
-// The finished runs of an earlier, interrupted invocation: lines by run index. A line that is not
-// a whole row of this study (cut by the interruption, or of another sweep) is dropped, and so is a
+// The finished runs of an earlier, interrupted invocation, by run index. A line that is not a
+// whole row of this study (cut by the interruption, or of another sweep) is dropped, and so is a
 // run missing one of its stages: it runs again.
-std::map<int, std::vector<std::string>> ReadFinishedRuns(const fs::path& csv, const std::vector<StudyRun>& runs, int stages,
-                                                        int* dropped) {
-  std::map<int, std::vector<std::string>> finished;
+std::map<int, FinishedRun> ReadFinishedRuns(const fs::path& csv, const std::vector<StudyRun>& runs, int stages, int* dropped) {
+  std::map<int, FinishedRun> finished;
   *dropped = 0;
   std::ifstream in(csv, std::ios::binary);
   if (!in) return finished;
@@ -106,14 +106,18 @@ std::map<int, std::vector<std::string>> ReadFinishedRuns(const fs::path& csv, co
       ++*dropped;
       continue;
     }
-    finished[row.run.index].push_back(line);
+    FinishedRun& f = finished[row.run.index];
+    const int slot = row.stage == "tracking" ? 0 : 1;
+    f.twice = f.twice || !f.lines[slot].empty();
+    f.lines[slot] = line;
+    f.rows[slot] = row;
+    ++f.stages;
   }
   for (auto it = finished.begin(); it != finished.end();) {
-    const bool distinct = it->second.size() < 2 || StageOf(it->second[0]) != StageOf(it->second[1]);
-    if (static_cast<int>(it->second.size()) == stages && distinct) {
+    if (it->second.stages == stages && !it->second.twice) {
       ++it;
     } else {
-      *dropped += static_cast<int>(it->second.size());
+      *dropped += it->second.stages;
       it = finished.erase(it);
     }
   }
@@ -208,12 +212,12 @@ int RunStudy(const StudyOptions& options) {
   WriteFileAtomically(identity_file, identity);
 
   int dropped = 0;
-  std::map<int, std::vector<std::string>> finished = ReadFinishedRuns(csv, runs, stages, &dropped);
+  std::map<int, FinishedRun> finished = ReadFinishedRuns(csv, runs, stages, &dropped);
   const size_t resumed = finished.size();
   {  // the file as it stands, without cut lines, so appended rows start on a line of their own
     std::string text = StudyCsvHeader() + "\n";
-    for (const auto& [index, lines] : finished) {
-      for (const std::string& line : lines) text += line + "\n";
+    for (const auto& [index, run] : finished) {
+      for (int k = 0; k < stages; ++k) text += run.lines[k] + "\n";
     }
     WriteFileAtomically(csv, text);
   }
@@ -275,19 +279,14 @@ int RunStudy(const StudyOptions& options) {
   // Every run is in: the CSV in run order (the same whatever order the runs finished in), then
   // the summary and plots from it.
   int dropped_now = 0;
-  const std::map<int, std::vector<std::string>> all = ReadFinishedRuns(csv, runs, stages, &dropped_now);
+  const std::map<int, FinishedRun> all = ReadFinishedRuns(csv, runs, stages, &dropped_now);
   if (all.size() != runs.size()) ThrowInputError(csv.string(), 0, "lost rows while running: " + std::to_string(dropped_now));
   std::string text = StudyCsvHeader() + "\n";
   std::vector<StudyRow> rows;
-  for (const auto& [index, lines] : all) {
-    std::vector<std::string> sorted = lines;  // tracking before backend
-    std::sort(sorted.begin(), sorted.end(), [](const std::string& a, const std::string& b) {
-      return StageOf(a) == "tracking" && StageOf(b) != "tracking";
-    });
-    for (const std::string& line : sorted) {
-      text += line + "\n";
-      rows.emplace_back();
-      ParseStudyCsvLine(line, &rows.back());
+  for (const auto& [index, run] : all) {
+    for (int k = 0; k < stages; ++k) {
+      text += run.lines[k] + "\n";
+      rows.push_back(run.rows[k]);
     }
   }
   WriteFileAtomically(csv, text);

@@ -46,6 +46,8 @@ double HorizontalAxisErrorDeg(const Eigen::Vector3d& axis, const Pose3& T_world_
   return std::min(LineAngle(axis, R.col(0)), LineAngle(axis, R.col(1))) * kRadToDeg;
 }
 
+std::string ExpectedClass(const std::string& type) { return type == "open_locker" ? "locker" : type; }
+
 ObjectEstimate Transformed(const Pose3& T_new_old, const ObjectEstimate& object) {
   ObjectEstimate moved = object;
   moved.center = T_new_old * object.center;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "planemap/core/config.h"
+#include "planemap/core/object_eval.h"
 #include "planemap/core/plane_map.h"
 #include "planemap/core/tum_format.h"
 #include "planemap/sim/scene.h"
@@ -106,6 +107,10 @@ struct StudyRow {
   double pose_error = kNaN;  // the camera's largest position error over the run's frames [m]
   std::string note;          // why nothing was found, when it was not
 };
+
+// Fills `row`'s object fields (found, class, errors) from an object's evaluation against the
+// estimates it was matched among.
+void ScoreObject(const ObjectError& error, const std::vector<ObjectEstimate>& estimates, StudyRow* row);
 
 // Loads and checks a study file: unknown keys, empty sweeps, an unknown segmenter or object, or a
 // viewpoint outside the scene's floor give an InputError naming the file (and key).

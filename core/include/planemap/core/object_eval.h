@@ -56,6 +56,9 @@ struct ObjectError {
   bool found() const { return estimate >= 0; }
 };
 
+// The class the frontend's patterns give a scene object type ("open_locker" is a "locker").
+std::string ExpectedClass(const std::string& type);
+
 // Moves an estimate by a rigid transform (e.g. the ATE alignment into the ground truth's world).
 ObjectEstimate Transformed(const Pose3& T_new_old, const ObjectEstimate& object);
 
