@@ -179,6 +179,32 @@ TEST(PlaneSegmentation, DegenerateFramesGiveNoPlaneAndAReason) {
   }
 }
 
+// Two pieces of the plane z = 2 m (left and right thirds of the image) with something between
+// them: nearer (an occluder that cut one surface in two) or farther (the floor seen between two
+// box tops of one height).
+SegmentationResult TwoCoplanarPieces(float middle_depth) {
+  Cloud cloud(640, 480);
+  DetectedPlane left, right;
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      const float z = (u < 200 || u >= 440) ? 2.0f : middle_depth;
+      auto& p = cloud(u, v);
+      p.x = (u - 319.5f) * z / 525.0f, p.y = (v - 239.5f) * z / 525.0f, p.z = z;
+      if (u < 200) left.inliers.push_back(v * 640 + u);
+      if (u >= 440) right.inliers.push_back(v * 640 + u);
+    }
+  }
+  std::vector<DetectedPlane> planes = {FitDetectedPlane(cloud, left.inliers), FitDetectedPlane(cloud, right.inliers)};
+  SegmenterConfig config;
+  config.coplanar_max_gap = 640;  // only the see-through test can keep them apart
+  return FinishSegmentation(cloud, std::move(planes), 640 * 480, config);
+}
+
+TEST(PlaneSegmentation, CoplanarPiecesMergeAcrossAnOccluderNotAcrossAGap) {
+  EXPECT_EQ(TwoCoplanarPieces(1.5f).planes.size(), 1u) << "an occluder in front cut one surface in two";
+  EXPECT_EQ(TwoCoplanarPieces(2.5f).planes.size(), 2u) << "the camera sees past the surface between them";
+}
+
 TEST(PlaneSegmentation, UnknownMethodIsAnError) {
   SegmenterConfig config;
   config.method = "ransac";

@@ -137,16 +137,19 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   EXPECT_EQ(f.table_found, f.scenes);
   EXPECT_EQ(f.table_in_object, 0);
   // Issue 3 asks that every box showing its top and two sides be found, with all faces within
-  // 5 deg of perpendicular. On these real scenes that holds for 7 of 10 boxes: the misses are a
-  // back box whose side is a 10-pixel grazing strip (learn0), a box whose top the segmenter
-  // merged with a neighbour's (learn13), and a box whose vertical corner is hidden under the
-  // box stacked on it (learn18). The worst face is 6.7 deg off (a 600-pixel top mostly hidden by
-  // the box on it). Both are printed above and are open work. What is asserted: the table, the
-  // boxes found so far, and that what is found is right:
-  ASSERT_GE(f.found, 7);
+  // 5 deg of perpendicular. On these real scenes that holds for 8 of 11 boxes. The misses: a back
+  // box whose second side is a strip seen at about 82 deg incidence, fitted with another box's
+  // points (learn0); a box whose narrow left face the segmenter splits into two planes 36 deg
+  // apart (learn13); a box whose vertical corner is hidden behind the box in front of it, so its
+  // two sides never meet in the image (learn18). The worst face is 6.7 deg off (a 600-pixel top
+  // mostly hidden by the box on it). Both are printed above and are open work. What is asserted:
+  // the table, the boxes found so far, that what is found is right, and that a dimension called
+  // complete is never grossly wrong (an occluded edge once passed for a whole one, 22 cm short):
+  ASSERT_GE(f.found, 8);
   EXPECT_GE(*std::min_element(f.iou.begin(), f.iou.end()), 0.8);
   EXPECT_LE(median(f.perpendicular_error_deg), 5.0) << "deg";
   EXPECT_LE(median(f.dimension_error), 0.01) << "m";
+  EXPECT_LE(worst(f.dimension_error), 0.03) << "m";
 }
 
 TEST(RealFrames, TumOfficeFramesGivePlanesAndNoInventedObjects) {

@@ -29,16 +29,50 @@ void ForInliersIn(const DetectedPlane& plane, const Window& window, const Cloud&
   }
 }
 
+}  // namespace
+
+Eigen::Vector3d AlongRayOntoPlane(const Plane& plane, const Eigen::Vector3d& p) {
+  const double along = plane.normal.dot(p);
+  if (std::abs(along) < 1e-12 * std::max(1.0, p.norm())) return p;
+  const double scale = -plane.offset / along;
+  return scale > 0.0 ? Eigen::Vector3d(scale * p) : p;
+}
+
+namespace {
+
 // Eqs. (2)-(5): inliers of `own` within d_thresh of both planes and farther than d_min from both;
-// and (band) inliers of `own` from d_thresh to band_width away from `other`.
-void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other, const Window& window, const Cloud& cloud,
-                       const IntersectionConfig& c, std::vector<Eigen::Vector3d>* points, std::vector<Eigen::Vector3d>* band) {
+// and (band) inliers of `own` from d_thresh to band_width away from `other`. With band_on_plane,
+// a band point moves along its ray onto `own` when its distance to `own` is within the depth
+// noise (band_on_plane_max_sigma robust standard deviations of the band's distances) and no
+// other of `planes` is nearer: a point beyond either may be a neighbouring surface's pixel the
+// segmenter gave to `own` (a side face's pixel beside a corner), which its ray would carry past
+// the corner; it stays where it was.
+void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other, const std::vector<const DetectedPlane*>& nearby,
+                       const Window& window, const Cloud& cloud, const IntersectionConfig& c,
+                       std::vector<Eigen::Vector3d>* points, std::vector<Eigen::Vector3d>* band) {
+  std::vector<double> distance;  // of each band point to `own` [m]; negative: nearer another plane
+  const size_t first = band->size();
   ForInliersIn(own, window, cloud, [&](const Eigen::Vector3d& p) {
     const double d_own = std::abs(own.plane.SignedDistance(p));     // eq. (2) / (4)
     const double d_other = std::abs(other.plane.SignedDistance(p)); // eq. (3) / (5)
     if (d_own < c.d_thresh && d_other < c.d_thresh && d_own >= c.d_min && d_other >= c.d_min) points->push_back(p);
-    if (d_other >= c.d_thresh && d_other < c.band_width) band->push_back(p);
+    if (d_other < c.d_thresh || d_other >= c.band_width) return;
+    bool own_nearest = true;
+    for (size_t k = 0; c.band_on_plane && own_nearest && k < nearby.size(); ++k) {
+      own_nearest = nearby[k] == &own || std::abs(nearby[k]->plane.SignedDistance(p)) >= d_own;
+    }
+    band->push_back(p);
+    distance.push_back(own_nearest ? d_own : -1.0);
   });
+  if (!c.band_on_plane || distance.empty()) return;
+  std::vector<double> sorted = distance;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double sigma = 1.4826 * std::max(0.0, sorted[sorted.size() / 2]);  // median absolute distance
+  for (size_t k = 0; k < distance.size(); ++k) {
+    if (distance[k] >= 0.0 && distance[k] <= c.band_on_plane_max_sigma * sigma) {
+      (*band)[first + k] = AlongRayOntoPlane(own.plane, (*band)[first + k]);
+    }
+  }
 }
 
 // Whether most of `band` (one plane's points beside the edge) within [low, high] along the line
@@ -150,17 +184,41 @@ std::optional<Interval> SharedSpan(const std::vector<Eigen::Vector3d>& points_a,
 }
 
 // Whether the edge goes on beyond `end` (moving along `outward`) but the camera cannot see it:
-// the image ends, depth is missing, or something nearer hides it that is not a plane through the
-// end (the floor under a box's vertical edge ends that edge; a box in front of it hides it).
-bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Cloud& cloud,
+// the image ends, depth is missing, something nearer hides it, or it runs behind a plane through
+// the end that does not end it. The edge joins planes `a` and `b`. Looking past the end:
+//  - a plane through the end that the edge would go on in front of is a third face the edge
+//    meets (a box's top at the top of its vertical edge): the edge ends;
+//  - a plane through the end that the edge would go on behind ends it only if it is a
+//    support (terminators: the floor under a box's vertical edge, not the top of a box lying in
+//    front of it, which the face beside it goes on below);
+//  - another surface nearer than the continuation hides it.
+bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, int b, const Cloud& cloud,
            const std::vector<int>& plane_of_pixel, const std::vector<DetectedPlane>& planes,
            const CameraIntrinsics& camera, const IntersectionConfig& c, const EdgeTerminators* terminators) {
-  // Whether plane `owner`, crossing the edge at its end, ends it.
+  // Without terminators every plane is taken for structure: any plane may end an edge.
+  auto is_structure = [&](int plane) {
+    return terminators == nullptr || (plane < static_cast<int>(terminators->structure.size()) && terminators->structure[plane]);
+  };
+  // Whether plane `owner`, crossing the edge at its end, ends it: a support neither face of the
+  // edge goes on beneath.
   auto terminates = [&](int owner) {
     if (terminators == nullptr) return true;
-    if (owner < static_cast<int>(terminators->structure.size()) && terminators->structure[owner]) return true;
+    const bool structure = is_structure(owner);
     const double cos_tilt = std::cos(terminators->max_tilt_deg * kDegToRad);
-    return planes[owner].plane.normal.dot(terminators->up) > cos_tilt && outward.dot(terminators->up) < -cos_tilt;
+    if (!structure && !(planes[owner].plane.normal.dot(terminators->up) > cos_tilt && outward.dot(terminators->up) < -cos_tilt)) {
+      return false;
+    }
+    for (int face : {a, b}) {  // an object's faces (the floor is no object's face); a sample suffices
+      if (is_structure(face)) continue;
+      const std::vector<int>& inliers = planes[face].inliers;
+      const size_t stride = std::max<size_t>(1, inliers.size() / 1000);
+      int beneath = 0, seen = 0;
+      for (size_t k = 0; k < inliers.size(); k += stride, ++seen) {
+        beneath += planes[owner].plane.SignedDistance(cloud[inliers[k]].getVector3fMap().cast<double>()) < -c.support_tolerance;
+      }
+      if (beneath > c.support_max_share * seen) return false;
+    }
+    return true;
   };
   if (end.z() <= 0.0) return true;
   const double step = end.z() / camera.fx;  // about one pixel at the end's depth [m]
@@ -184,18 +242,40 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, const Clo
     if (k < 2) continue;  // the end pixel itself and its neighbour are on the edge
     const int i = v * camera.width + u;
     if (!IsValidPoint(cloud[i])) return true;
-    if (cloud[i].z < x.z() - c.occluder_min_gap) {
-      // The edge ends here only if the nearer surface is a plane through the end and is itself at
-      // the end (the floor under a box's edge), not a plane that merely passes there further
-      // away (the top of a box in front of a locker's edge).
-      const int owner = plane_of_pixel[i];
-      const Eigen::Vector3d seen(cloud[i].x, cloud[i].y, cloud[i].z);
-      const bool ends_here = owner >= 0 && std::abs(planes[owner].plane.SignedDistance(end)) < 2.0 * c.d_thresh &&
-                             (seen - end).norm() < c.end_max_distance && terminates(owner);
-      return !ends_here;
+    const int owner = plane_of_pixel[i];
+    const Eigen::Vector3d seen(cloud[i].x, cloud[i].y, cloud[i].z);
+    const bool through = owner >= 0 && owner != a && owner != b &&
+                         std::abs(planes[owner].plane.SignedDistance(end)) < 2.0 * c.d_thresh &&
+                         (seen - end).norm() < c.end_max_distance;
+    if (through) return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);
+    if (owner == a || owner == b) continue;  // the edge's own face cannot hide it
+    if (cloud[i].z < x.z() - c.occluder_min_gap) return true;
+  }
+  // One of the edge's own faces (not the floor, which goes on past an object's bottom edge) goes
+  // on along the line past the end, up to something nearer or for face_run_length: the other
+  // face stopped there without a corner, so something hides it (a box standing on it). Shorter
+  // runs that end in the background are the noise of where a face's last pixels end.
+  const int run = static_cast<int>(std::ceil(c.face_run_length / step));
+  int on_face = 0;
+  for (int k = 2; k <= run; ++k) {
+    const Eigen::Vector3d x = end + (k * step) * outward;
+    const Eigen::Vector2d uv = camera.Project(x);
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    if (x.z() <= 0.0 || u < 0 || v < 0 || u >= camera.width || v >= camera.height) break;
+    const int i = v * camera.width + u, owner = plane_of_pixel[i];
+    if ((owner == a || owner == b) && !is_structure(owner)) {
+      ++on_face;
+    } else if (on_face == k - 2 && on_face > 0 && IsValidPoint(cloud[i]) && owner >= 0 &&
+               std::abs(planes[owner].plane.SignedDistance(x)) < c.occluder_min_gap) {
+      // The face went on right up to another plane through the line: as at the end itself.
+      return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);
+    } else if (on_face == k - 2 && on_face > 0 && IsValidPoint(cloud[i]) && cloud[i].z < x.z() - c.occluder_min_gap) {
+      return true;  // the face went on right up to a nearer surface
+    } else {
+      break;
     }
   }
-  return false;
+  return on_face > 0.8 * (run - 1);
 }
 
 }  // namespace
@@ -243,8 +323,13 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       const Plane& pb = planes[b].plane;
       if (std::abs(pa.normal.dot(pb.normal)) > max_cos || !boxes[a].Overlaps(boxes[b], c.d_thresh)) continue;
       std::vector<Eigen::Vector3d> points_a, points_b, band_a, band_b;
-      CollectEdgePoints(planes[a], planes[b], grown(b), cloud, c, &points_a, &band_a);
-      CollectEdgePoints(planes[b], planes[a], grown(a), cloud, c, &points_b, &band_b);
+      // The planes whose points come near both (the others are too far to have lent a pixel).
+      std::vector<const DetectedPlane*> nearby;
+      for (size_t k = 0; k < planes.size(); ++k) {
+        if (boxes[k].Overlaps(boxes[a], c.band_width) && boxes[k].Overlaps(boxes[b], c.band_width)) nearby.push_back(&planes[k]);
+      }
+      CollectEdgePoints(planes[a], planes[b], nearby, grown(b), cloud, c, &points_a, &band_a);
+      CollectEdgePoints(planes[b], planes[a], nearby, grown(a), cloud, c, &points_b, &band_b);
       if (static_cast<int>(points_a.size() + points_b.size()) < c.min_points) continue;
 
       // The intersection line: direction n_a x n_b through the point nearest the origin.
@@ -282,8 +367,8 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       edge.length_eq6 = std::sqrt(std::max(0.0, diagonal * diagonal - 4.0 * c.d_thresh * c.d_thresh));
       edge.convex = MostlyBehind(band_a, pb, origin, direction, span.low, span.high) &&
                     MostlyBehind(band_b, pa, origin, direction, span.low, span.high);
-      edge.start_cut = IsCut(edge.start, -direction, cloud, plane_of_pixel, planes, camera, c, terminators);
-      edge.end_cut = IsCut(edge.end, direction, cloud, plane_of_pixel, planes, camera, c, terminators);
+      edge.start_cut = IsCut(edge.start, -direction, static_cast<int>(a), static_cast<int>(b), cloud, plane_of_pixel, planes, camera, c, terminators);
+      edge.end_cut = IsCut(edge.end, direction, static_cast<int>(a), static_cast<int>(b), cloud, plane_of_pixel, planes, camera, c, terminators);
       edges.push_back(edge);
     }
   }

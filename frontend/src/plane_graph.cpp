@@ -136,6 +136,14 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   for (size_t i = 0; i < m; ++i) {
     for (int e : model->angles[i].edges) object_angle[i] = object_angle[i] && !resting(model->edges[e]);
   }
+  //    An inner corner (all three edges concave: the inside of an open locker, Fig. 2, or the
+  //    nook where two objects meet on the floor) joins an outer corner only through an edge
+  //    between two faces, not through one with the floor.
+  std::vector<bool> inner(m);
+  for (size_t i = 0; i < m; ++i) {
+    inner[i] = std::none_of(model->angles[i].edges.begin(), model->angles[i].edges.end(),
+                            [&](int e) { return model->edges[e].convex; });
+  }
   std::vector<int> parent(m);
   std::iota(parent.begin(), parent.end(), 0);
   for (size_t i = 0; i < m; ++i) {
@@ -144,6 +152,8 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
       if (!object_angle[j]) continue;
       for (int e : model->angles[i].edges) {
         const PlaneEdge& edge = model->edges[e];
+        const bool with_structure = model->structure[edge.plane_a] || model->structure[edge.plane_b];
+        if (with_structure && inner[i] != inner[j]) continue;
         if (model->structure[edge.plane_a] && model->structure[edge.plane_b]) continue;
         const auto& other = model->angles[j].edges;
         if (std::find(other.begin(), other.end(), e) != other.end()) parent[Find(parent, i)] = Find(parent, j);
@@ -161,7 +171,6 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
     }
     model->objects[object_of_root[root]].angles.push_back(static_cast<int>(i));
   }
-  std::vector<FrameObject> kept;
   for (FrameObject& object : model->objects) {
     std::set<int> faces;
     for (int a : object.angles) {
@@ -170,7 +179,22 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
       }
     }
     object.planes.assign(faces.begin(), faces.end());
-    if (object.planes.size() >= 2) kept.push_back(std::move(object));  // a room corner is no object
+  }
+  // A lone inner corner with a face of another object is the nook between two objects.
+  auto nook = [&](const FrameObject& object) {
+    if (object.angles.size() != 1 || !inner[object.angles[0]]) return false;
+    for (const FrameObject& other : model->objects) {
+      if (&other == &object) continue;
+      for (int p : object.planes) {
+        if (std::count(other.planes.begin(), other.planes.end(), p) > 0) return true;
+      }
+    }
+    return false;
+  };
+  std::vector<FrameObject> kept;
+  for (FrameObject& object : model->objects) {
+    if (object.planes.size() < 2 || nook(object)) continue;  // a room corner is no object
+    kept.push_back(object);
   }
   model->objects = std::move(kept);
 }

@@ -40,11 +40,44 @@ namespace {
 
 struct PixelBox {
   int u0 = 1 << 30, v0 = 1 << 30, u1 = -1, v1 = -1;
+  Eigen::Vector2d Center() const { return Eigen::Vector2d(0.5 * (u0 + u1), 0.5 * (v0 + v1)); }
   int Gap(const PixelBox& o) const {
     const int du = std::max({0, o.u0 - u1, u0 - o.u1}), dv = std::max({0, o.v0 - v1, v0 - o.v1});
     return std::max(du, dv);
   }
 };
+
+// Whether the camera sees past the surface two coplanar pieces would span: along the image
+// segment between pixels `from` and `to` (their pixel boxes' centres), the pixels of neither lie farther
+// than that surface (two box tops of one height with the floor between them), rather than nearer
+// (an occluder in front of one surface, which is what cut it in two) or on it.
+bool SeenThrough(const Cloud& cloud, const DetectedPlane& a, const DetectedPlane& b, const Eigen::Vector2d& from,
+                 const Eigen::Vector2d& to, const SegmenterConfig& config) {
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
+  const Eigen::Vector3d n = (a.plane.normal + b.plane.normal).normalized();
+  const double offset = 0.5 * (a.plane.offset + b.plane.offset);
+  const int steps = static_cast<int>(std::ceil((to - from).norm()));
+  int behind = 0, other = 0;
+  for (int k = 0; k <= steps; ++k) {
+    const Eigen::Vector2d uv = from + (to - from) * (steps > 0 ? static_cast<double>(k) / steps : 0.0);
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    if (u < 0 || v < 0 || u >= w || v >= h) continue;
+    const int i = v * w + u;
+    if (std::binary_search(a.inliers.begin(), a.inliers.end(), i) ||
+        std::binary_search(b.inliers.begin(), b.inliers.end(), i) || !IsValidPoint(cloud[i])) {
+      continue;
+    }
+    const Eigen::Vector3d p(cloud[i].x, cloud[i].y, cloud[i].z);
+    const double along = n.dot(p.normalized());
+    if (std::abs(along) < 1e-6) continue;
+    const double range = -offset / along;  // where the pixel's ray meets the surface
+    ++other;
+    // The margin grows with the square of the depth, as the depth noise does.
+    const double margin = config.coplanar_see_through_margin * std::max(1.0, p.z() * p.z());
+    if (range > 0.0 && p.norm() > range + margin) ++behind;
+  }
+  return other > 0 && behind > config.coplanar_max_see_through * other;
+}
 
 // Merges pairs of planes with one equation whose pixels lie close, until none is left.
 void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vector<DetectedPlane>* planes) {
@@ -73,7 +106,8 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
         if (pa.plane.normal.dot(pb.plane.normal) < min_cos ||
             std::abs(pa.plane.SignedDistance(pb.centroid)) > config.coplanar_max_distance ||
             std::abs(pb.plane.SignedDistance(pa.centroid)) > config.coplanar_max_distance ||
-            box_of(a).Gap(box_of(b)) > config.coplanar_max_gap) {
+            box_of(a).Gap(box_of(b)) > config.coplanar_max_gap ||
+            SeenThrough(cloud, pa, pb, box_of(a).Center(), box_of(b).Center(), config)) {
           continue;
         }
         std::vector<int> inliers = pa.inliers;

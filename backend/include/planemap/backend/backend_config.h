@@ -43,11 +43,14 @@ struct BackendConfig {
   // observations act on the box (BoxFaceFactor) instead of free landmarks.
   std::vector<std::string> cuboid_labels = {"box"};
   double face_max_angle_deg = 20.0;      // a face's normal within this of a box axis [deg]
-  double edge_sigma = 0.005;             // one view's edge length [m]
-  // An error all views' edges along one box axis share (EdgeLengthWithBiasFactor): an end at a
-  // silhouette is found to about a pixel, the same way in every view (1 px is 2-3.5 mm at the 1-2 m
-  // from which a box's edges are seen whole). 0: none.
-  double edge_bias_sigma = 0.0015;       // [m]
+  // One view's edge length: complete edges' lengths scatter by about 1 mm from view to view on
+  // the rendered walks (full sensor noise, 1-2 m), with ends moved along their rays onto their
+  // planes (intersections.band_on_plane) [m].
+  double edge_sigma = 0.0015;
+  // An error all views' edges along one box axis share (EdgeLengthWithBiasFactor): the sensor
+  // drops pixels at a silhouette the same way in every view, leaving edges about 0.5 mm short
+  // (under a pixel). 0: none.
+  double edge_bias_sigma = 0.0005;       // [m]
   double center_sigma = 0.02;            // one view's object centre, eq. (7) [m]
   double min_dimension = 0.01;           // dimensions stay above this [m]
   // A cuboid whose bottom lies within contact_distance of the floor stands on it (BoxContactFactor).

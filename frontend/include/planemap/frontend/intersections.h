@@ -20,9 +20,25 @@ struct IntersectionConfig {
   double occluder_min_gap = 0.02; // a surface this much nearer than the edge's continuation hides it [m]
   double end_max_distance = 0.15;  // a nearer surface beyond an end ends the edge only if its
                                    // point there lies this close to the end [m]
+  double support_tolerance = 0.02;  // a support ends a face's edge unless more than
+  double support_max_share = 0.05;  // this share of the face's points lie this far beneath it
+                                    // [m], [fraction]
+  double face_run_length = 0.02;    // a face going on this far along the line past an end
+                                    // (the other face hidden) cuts it [m]
   double band_width = 0.09;        // each plane's extent along the edge is measured on its inliers
                                    // from d_thresh to this far from the other plane [m]
   double end_trim_fraction = 0.0;  // share of each plane's band points ignored at either end
+  // Each band point is moved along its pixel's ray onto its own fitted plane before the extents
+  // are taken. A depth sensor's error lies along the ray, so a point beside a face's end is shifted
+  // along the edge by its depth error times the ray's cosine with the edge; the farthest of many
+  // such points lies beyond the end (about 1-3 mm at 1-1.5 m), a bias every view shares. On the
+  // plane, the point is where the pixel's exact ray meets the surface. [on/off]
+  bool band_on_plane = true;
+  // ... only a point whose distance to its plane is within this many robust standard deviations
+  // (median absolute distance) of the band's, and which no other plane lies nearer: beyond that it
+  // may be a neighbouring face's pixel the segmenter took in beside a corner, which its ray would
+  // carry past the corner; such a point stays where it is. [standard deviations]
+  double band_on_plane_max_sigma = 3.0;
   double max_gap = 0.05;           // points further apart along the line split the edge:
                                    // the longest run counts [m]
 
@@ -37,8 +53,13 @@ struct IntersectionConfig {
     v("cut_search", cut_search, Check::kPositive);
     v("occluder_min_gap", occluder_min_gap, Check::kPositive);
     v("end_max_distance", end_max_distance, Check::kPositive);
+    v("support_tolerance", support_tolerance, Check::kPositive);
+    v("support_max_share", support_max_share, Check::kProbability);
+    v("face_run_length", face_run_length, Check::kPositive);
     v("band_width", band_width, Check::kPositive);
     v("end_trim_fraction", end_trim_fraction, Check::kProbability);
+    v("band_on_plane", band_on_plane);
+    v("band_on_plane_max_sigma", band_on_plane_max_sigma, Check::kPositive);
     v("max_gap", max_gap, Check::kPositive);
   }
 };
@@ -52,6 +73,11 @@ struct EdgeTerminators {
   Eigen::Vector3d up = Eigen::Vector3d(0.0, -1.0, 0.0);   // unit, camera frame
   double max_tilt_deg = 30.0;  // a support is within this of horizontal, the edge of vertical
 };
+
+// Where the ray from the camera centre through camera-frame point `p` meets `plane`: a depth
+// reading moved to its plane without changing its pixel. `p` itself if the ray misses the plane
+// or meets it behind the camera.
+Eigen::Vector3d AlongRayOntoPlane(const Plane& plane, const Eigen::Vector3d& p);
 
 // Every real intersection among `planes` (ids as indices), in the camera frame.
 std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,

@@ -70,7 +70,11 @@ struct SegmenterConfig {
   // occluder in front of it (a box before a locker's side): they are merged.
   double coplanar_max_angle_deg = 5.0;  // normals this close ... [deg]
   double coplanar_max_distance = 0.03;  // ... each centroid this close to the other plane [m]
-  int coplanar_max_gap = 40;            // ... and their pixel boxes this close [px]
+  int coplanar_max_gap = 40;            // ... and their pixel boxes this close [px].
+  // Not merged when the camera sees past the surface between them (two box tops of one height):
+  double coplanar_see_through_margin = 0.02;  // pixels between them this far beyond it (at
+                                              // 1 m, growing as depth squared) ... [m]
+  double coplanar_max_see_through = 0.1;      // ... are more than this share of them [fraction]
   double max_view_angle_deg = 85.0;  // planes seen more edge-on at their centroid are dropped:
                                      // a plane through the camera holds whole pixel strips of
                                      // unrelated points [deg]
@@ -84,6 +88,8 @@ struct SegmenterConfig {
     v("coplanar_max_angle_deg", coplanar_max_angle_deg, Check::kNonNegative);
     v("coplanar_max_distance", coplanar_max_distance, Check::kNonNegative);
     v("coplanar_max_gap", coplanar_max_gap, Check::kNonNegative);
+    v("coplanar_see_through_margin", coplanar_see_through_margin, Check::kPositive);
+    v("coplanar_max_see_through", coplanar_max_see_through, Check::kProbability);
     v("max_view_angle_deg", max_view_angle_deg, Check::kPositive);
     v("organized", organized);
     v("msac", msac);
