@@ -251,31 +251,27 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
     if (owner == a || owner == b) continue;  // the edge's own face cannot hide it
     if (cloud[i].z < x.z() - c.occluder_min_gap) return true;
   }
-  // One of the edge's own faces (not the floor, which goes on past an object's bottom edge) goes
-  // on along the line past the end, up to something nearer or for face_run_length: the other
-  // face stopped there without a corner, so something hides it (a box standing on it). Shorter
-  // runs that end in the background are the noise of where a face's last pixels end.
+  // One of the edge's own faces (not the floor, which goes on past an object's bottom edge) runs
+  // on along the line past the end, up to another plane through the line or something nearer,
+  // or for face_run_length: the other face stopped there without a corner, so something hides it
+  // (a box standing on it). Shorter runs that end in the background are the noise of where a
+  // face's last pixels end.
   const int run = static_cast<int>(std::ceil(c.face_run_length / step));
-  int on_face = 0;
   for (int k = 2; k <= run; ++k) {
     const Eigen::Vector3d x = end + (k * step) * outward;
+    if (x.z() <= 0.0) return false;
     const Eigen::Vector2d uv = camera.Project(x);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    if (x.z() <= 0.0 || u < 0 || v < 0 || u >= camera.width || v >= camera.height) break;
+    if (u < 0 || v < 0 || u >= camera.width || v >= camera.height) return false;
     const int i = v * camera.width + u, owner = plane_of_pixel[i];
-    if ((owner == a || owner == b) && !is_structure(owner)) {
-      ++on_face;
-    } else if (on_face == k - 2 && on_face > 0 && IsValidPoint(cloud[i]) && owner >= 0 &&
-               std::abs(planes[owner].plane.SignedDistance(x)) < c.occluder_min_gap) {
-      // The face went on right up to another plane through the line: as at the end itself.
-      return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);
-    } else if (on_face == k - 2 && on_face > 0 && IsValidPoint(cloud[i]) && cloud[i].z < x.z() - c.occluder_min_gap) {
-      return true;  // the face went on right up to a nearer surface
-    } else {
-      break;
+    if ((owner == a || owner == b) && !is_structure(owner)) continue;
+    if (k == 2 || !IsValidPoint(cloud[i])) return false;  // no run, or it ends where depth does
+    if (owner >= 0 && std::abs(planes[owner].plane.SignedDistance(x)) < c.occluder_min_gap) {
+      return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);  // as at the end itself
     }
+    return cloud[i].z < x.z() - c.occluder_min_gap;  // a nearer surface, or the background
   }
-  return on_face > 0.8 * (run - 1);
+  return run >= 2;
 }
 
 }  // namespace
