@@ -47,7 +47,8 @@ namespace {
 // other of `planes` is nearer: a point beyond either may be a neighbouring surface's pixel the
 // segmenter gave to `own` (a side face's pixel beside a corner), which its ray would carry past
 // the corner; it stays where it was.
-void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other, const std::vector<const DetectedPlane*>& nearby,
+void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other,
+                       const std::vector<const DetectedPlane*>& nearby,
                        const Window& window, const Cloud& cloud, const IntersectionConfig& c,
                        std::vector<Eigen::Vector3d>* points, std::vector<Eigen::Vector3d>* band) {
   std::vector<double> distance;  // of each band point to `own` [m]; negative: nearer another plane
@@ -197,7 +198,8 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
            const CameraIntrinsics& camera, const IntersectionConfig& c, const EdgeTerminators* terminators) {
   // Without terminators every plane is taken for structure: any plane may end an edge.
   auto is_structure = [&](int plane) {
-    return terminators == nullptr || (plane < static_cast<int>(terminators->structure.size()) && terminators->structure[plane]);
+    return terminators == nullptr ||
+           (plane < static_cast<int>(terminators->structure.size()) && terminators->structure[plane]);
   };
   // Whether plane `owner`, crossing the edge at its end, ends it: a support neither face of the
   // edge goes on beneath.
@@ -205,16 +207,17 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
     if (terminators == nullptr) return true;
     const bool structure = is_structure(owner);
     const double cos_tilt = std::cos(terminators->max_tilt_deg * kDegToRad);
-    if (!structure && !(planes[owner].plane.normal.dot(terminators->up) > cos_tilt && outward.dot(terminators->up) < -cos_tilt)) {
-      return false;
-    }
+    const bool support = planes[owner].plane.normal.dot(terminators->up) > cos_tilt &&
+                         outward.dot(terminators->up) < -cos_tilt;
+    if (!structure && !support) return false;
     for (int face : {a, b}) {  // an object's faces (the floor is no object's face); a sample suffices
       if (is_structure(face)) continue;
       const std::vector<int>& inliers = planes[face].inliers;
       const size_t stride = std::max<size_t>(1, inliers.size() / 1000);
       int beneath = 0, seen = 0;
       for (size_t k = 0; k < inliers.size(); k += stride, ++seen) {
-        beneath += planes[owner].plane.SignedDistance(cloud[inliers[k]].getVector3fMap().cast<double>()) < -c.support_tolerance;
+        const Eigen::Vector3d p = cloud[inliers[k]].getVector3fMap().cast<double>();
+        beneath += planes[owner].plane.SignedDistance(p) < -c.support_tolerance;
       }
       if (beneath > c.support_max_share * seen) return false;
     }
@@ -322,7 +325,9 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       // The planes whose points come near both (the others are too far to have lent a pixel).
       std::vector<const DetectedPlane*> nearby;
       for (size_t k = 0; k < planes.size(); ++k) {
-        if (boxes[k].Overlaps(boxes[a], c.band_width) && boxes[k].Overlaps(boxes[b], c.band_width)) nearby.push_back(&planes[k]);
+        if (boxes[k].Overlaps(boxes[a], c.band_width) && boxes[k].Overlaps(boxes[b], c.band_width)) {
+          nearby.push_back(&planes[k]);
+        }
       }
       CollectEdgePoints(planes[a], planes[b], nearby, grown(b), cloud, c, &points_a, &band_a);
       CollectEdgePoints(planes[b], planes[a], nearby, grown(a), cloud, c, &points_b, &band_b);
@@ -363,8 +368,9 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       edge.length_eq6 = std::sqrt(std::max(0.0, diagonal * diagonal - 4.0 * c.d_thresh * c.d_thresh));
       edge.convex = MostlyBehind(band_a, pb, origin, direction, span.low, span.high) &&
                     MostlyBehind(band_b, pa, origin, direction, span.low, span.high);
-      edge.start_cut = IsCut(edge.start, -direction, static_cast<int>(a), static_cast<int>(b), cloud, plane_of_pixel, planes, camera, c, terminators);
-      edge.end_cut = IsCut(edge.end, direction, static_cast<int>(a), static_cast<int>(b), cloud, plane_of_pixel, planes, camera, c, terminators);
+      const int ia = static_cast<int>(a), ib = static_cast<int>(b);
+      edge.start_cut = IsCut(edge.start, -direction, ia, ib, cloud, plane_of_pixel, planes, camera, c, terminators);
+      edge.end_cut = IsCut(edge.end, direction, ia, ib, cloud, plane_of_pixel, planes, camera, c, terminators);
       edges.push_back(edge);
     }
   }

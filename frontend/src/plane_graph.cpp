@@ -194,7 +194,7 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   std::vector<FrameObject> kept;
   for (FrameObject& object : model->objects) {
     if (object.planes.size() < 2 || nook(object)) continue;  // a room corner is no object
-    kept.push_back(object);
+    kept.push_back(object);  // copied: nook() reads the others' planes
   }
   model->objects = std::move(kept);
 }

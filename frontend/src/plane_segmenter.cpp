@@ -48,9 +48,9 @@ struct PixelBox {
 };
 
 // Whether the camera sees past the surface two coplanar pieces would span: along the image
-// segment between pixels `from` and `to` (their pixel boxes' centres), the pixels of neither lie farther
-// than that surface (two box tops of one height with the floor between them), rather than nearer
-// (an occluder in front of one surface, which is what cut it in two) or on it.
+// segment between pixels `from` and `to` (their pixel boxes' centres), the pixels of neither lie
+// farther than that surface (two box tops of one height with the floor between them), rather
+// than nearer (an occluder in front of one surface, which is what cut it in two) or on it.
 bool SeenThrough(const Cloud& cloud, const DetectedPlane& a, const DetectedPlane& b, const Eigen::Vector2d& from,
                  const Eigen::Vector2d& to, const SegmenterConfig& config) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
