@@ -32,10 +32,8 @@ void ForInliersIn(const DetectedPlane& plane, const Window& window, const Cloud&
 }  // namespace
 
 Eigen::Vector3d AlongRayOntoPlane(const Plane& plane, const Eigen::Vector3d& p) {
-  const double along = plane.normal.dot(p);
-  if (std::abs(along) < 1e-12 * std::max(1.0, p.norm())) return p;
-  const double scale = -plane.offset / along;
-  return scale > 0.0 ? Eigen::Vector3d(scale * p) : p;
+  const std::optional<double> scale = plane.IntersectRay(Eigen::Vector3d::Zero(), p, 1e-12 * std::max(1.0, p.norm()));
+  return scale && *scale > 0.0 ? Eigen::Vector3d(*scale * p) : p;
 }
 
 namespace {
@@ -223,6 +221,11 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
     }
     return true;
   };
+  // A plane through the edge's line past the end: the edge going on behind it is hidden unless
+  // the plane ends it; going on in front of it, the edge met a third face and ended.
+  auto hidden_by = [&](int owner) {
+    return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);
+  };
   if (end.z() <= 0.0) return true;
   const double step = end.z() / camera.fx;  // about one pixel at the end's depth [m]
   // The edge's extent is measured on bands up to band_width beside it, which leave the image
@@ -233,24 +236,27 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
       end_uv.y() >= camera.height - margin) {
     return true;
   }
-  for (int k = 0; k <= c.cut_search; ++k) {
-    const Eigen::Vector3d x = end + (k * step) * outward;
-    if (x.z() <= 0.0) return true;
-    const Eigen::Vector2d uv = camera.Project(x);
+  // The pixel k steps past the end, at least `border` pixels inside the image; -1 if none.
+  auto pixel_past = [&](int k, int border, Eigen::Vector3d* x) {
+    *x = end + (k * step) * outward;
+    if (x->z() <= 0.0) return -1;
+    const Eigen::Vector2d uv = camera.Project(*x);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    if (u < c.border_margin || v < c.border_margin || u >= camera.width - c.border_margin ||
-        v >= camera.height - c.border_margin) {
-      return true;
-    }
+    if (u < border || v < border || u >= camera.width - border || v >= camera.height - border) return -1;
+    return v * camera.width + u;
+  };
+  Eigen::Vector3d x;
+  for (int k = 0; k <= c.cut_search; ++k) {
+    const int i = pixel_past(k, c.border_margin, &x);
+    if (i < 0) return true;
     if (k < 2) continue;  // the end pixel itself and its neighbour are on the edge
-    const int i = v * camera.width + u;
     if (!IsValidPoint(cloud[i])) return true;
     const int owner = plane_of_pixel[i];
     const Eigen::Vector3d seen(cloud[i].x, cloud[i].y, cloud[i].z);
     const bool through = owner >= 0 && owner != a && owner != b &&
                          std::abs(planes[owner].plane.SignedDistance(end)) < 2.0 * c.d_thresh &&
                          (seen - end).norm() < c.end_max_distance;
-    if (through) return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);
+    if (through) return hidden_by(owner);
     if (owner == a || owner == b) continue;  // the edge's own face cannot hide it
     if (cloud[i].z < x.z() - c.occluder_min_gap) return true;
   }
@@ -261,16 +267,13 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
   // face's last pixels end.
   const int run = static_cast<int>(std::ceil(c.face_run_length / step));
   for (int k = 2; k <= run; ++k) {
-    const Eigen::Vector3d x = end + (k * step) * outward;
-    if (x.z() <= 0.0) return false;
-    const Eigen::Vector2d uv = camera.Project(x);
-    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    if (u < 0 || v < 0 || u >= camera.width || v >= camera.height) return false;
-    const int i = v * camera.width + u, owner = plane_of_pixel[i];
+    const int i = pixel_past(k, 0, &x);
+    if (i < 0) return false;
+    const int owner = plane_of_pixel[i];
     if ((owner == a || owner == b) && !is_structure(owner)) continue;
     if (k == 2 || !IsValidPoint(cloud[i])) return false;  // no run, or it ends where depth does
     if (owner >= 0 && std::abs(planes[owner].plane.SignedDistance(x)) < c.occluder_min_gap) {
-      return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);  // as at the end itself
+      return hidden_by(owner);  // as at the end itself
     }
     return cloud[i].z < x.z() - c.occluder_min_gap;  // a nearer surface, or the background
   }

@@ -54,8 +54,7 @@ struct PixelBox {
 bool SeenThrough(const Cloud& cloud, const DetectedPlane& a, const DetectedPlane& b, const Eigen::Vector2d& from,
                  const Eigen::Vector2d& to, const SegmenterConfig& config) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
-  const Eigen::Vector3d n = (a.plane.normal + b.plane.normal).normalized();
-  const double offset = 0.5 * (a.plane.offset + b.plane.offset);
+  const Plane surface{(a.plane.normal + b.plane.normal).normalized(), 0.5 * (a.plane.offset + b.plane.offset)};
   const int steps = static_cast<int>(std::ceil((to - from).norm()));
   int behind = 0, other = 0;
   for (int k = 0; k <= steps; ++k) {
@@ -68,13 +67,14 @@ bool SeenThrough(const Cloud& cloud, const DetectedPlane& a, const DetectedPlane
       continue;
     }
     const Eigen::Vector3d p(cloud[i].x, cloud[i].y, cloud[i].z);
-    const double along = n.dot(p.normalized());
-    if (std::abs(along) < 1e-6) continue;
-    const double range = -offset / along;  // where the pixel's ray meets the surface
+    const Eigen::Vector3d ray = p.normalized();
+    if (std::abs(surface.normal.dot(ray)) < 1e-6) continue;
     ++other;
-    // The margin grows with the square of the depth, as the depth noise does.
+    // Where the pixel's ray meets the surface; the margin grows with the square of the depth, as
+    // the depth noise does.
+    const std::optional<double> range = surface.IntersectRay(Eigen::Vector3d::Zero(), ray);
     const double margin = config.coplanar_see_through_margin * std::max(1.0, p.z() * p.z());
-    if (range > 0.0 && p.norm() > range + margin) ++behind;
+    if (range && *range > 0.0 && p.norm() > *range + margin) ++behind;
   }
   return other > 0 && behind > config.coplanar_max_see_through * other;
 }
