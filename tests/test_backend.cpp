@@ -1,6 +1,7 @@
 // The back end on rendered walks (full sensor noise, seeded): batch refinement against the same
 // run without it (ATE, box dimensions), the sliding window against tracking, and the box
 // dimensions' covariance against their errors.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -75,11 +76,14 @@ TEST_P(RefinedWalk, BatchLowersAteAndBoxErrorWindowNeverWorse) {
     EXPECT_LE(a->dimension_error.cwiseAbs().mean(), 0.7 * b->dimension_error.cwiseAbs().mean()) << "m";
   }
   // Never worse than tracking's sizes; the centre (from the box's faces, not eq. 7's corners)
-  // and the axis better; every dimension measured, within 3 standard deviations of the truth.
+  // and the axis no worse than tracking's beyond 3 of its own standard deviations (a hundredth
+  // of a degree: tracking's axis, one landmark's normal, can be that close by chance); every
+  // dimension measured, within 3 standard deviations of the truth.
   EXPECT_LE(a->dimension_error.cwiseAbs().mean(), b->dimension_error.cwiseAbs().mean() + 0.0002) << "m";
   EXPECT_LE(a->center_error, 0.7 * b->center_error) << "m";
-  EXPECT_LE(a->axis_error_deg, b->axis_error_deg + 0.01) << "deg";
   ASSERT_TRUE(o.uncertainty.known) << batch.covariance_error;
+  ASSERT_GT(o.uncertainty.grasp_axis_std_deg, 0.0);
+  EXPECT_LE(a->axis_error_deg, b->axis_error_deg + std::max(0.01, 3.0 * o.uncertainty.grasp_axis_std_deg)) << "deg";
   for (int k = 0; k < 3; ++k) {
     ASSERT_GT(o.uncertainty.dimension_std[k], 0.0) << "axis " << k << " is only bounded";
     EXPECT_LE(std::abs(a->dimension_error[k]), 3.0 * o.uncertainty.dimension_std[k]) << "m, axis " << k;

@@ -71,6 +71,15 @@ struct TrackingConfig {
   // Planes whose centroid is farther are neither matched nor added: a structured-light sensor's
   // depth comes in steps of z^2 / 350 m (5 cm at 4 m), and far walls break into tilted strips.
   double max_depth = 4.0;                // [m]
+  // Nor are planes whose normal is less certain than max_normal_std_deg, RANSAC's inlier angle: a
+  // far wall seen edge-on comes as a thin strip cut by the disparity steps, its normal off by
+  // 5-20 deg and different in every frame, and it would be the one plane fixing a direction. The
+  // fit's covariance takes the pixels as independent, but a structured-light sensor's errors are
+  // not (its correlation window, the steps): it is scaled by correlated_pixels, the pixels that
+  // err together. In the hall (configs/scenes/hall.yaml) such strips were off by 7-17 times the
+  // independent-pixel standard deviation, hence 100 (10 x 10 px: factor 10 on the deviation).
+  double max_normal_std_deg = 3.0;       // [deg]
+  double correlated_pixels = 100.0;      // [px]
   // A matched plane refines the pose (tracked) and updates its landmark only when, placed at the
   // pose, its normal is within merge_max_angle_deg of the landmark's and its centroid within
   // merge_max_distance of the landmark's plane.
@@ -111,6 +120,8 @@ struct TrackingConfig {
     v("point_stride", point_stride, Check::kPositive);
     v("min_landmark_inliers", min_landmark_inliers, Check::kPositive);
     v("max_depth", max_depth, Check::kPositive);
+    v("max_normal_std_deg", max_normal_std_deg, Check::kPositive);
+    v("correlated_pixels", correlated_pixels, Check::kPositive);
     v("merge_max_angle_deg", merge_max_angle_deg, Check::kPositive);
     v("merge_max_distance", merge_max_distance, Check::kPositive);
     v("landmark_voxel", landmark_voxel, Check::kPositive);
