@@ -130,7 +130,8 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   TrackResult result;
   // The frame's planes large and near enough to track, with their inlier moments and boxes.
   std::vector<Observation> observed;
-  const double max_normal_variance = std::pow(config_.max_normal_std_deg * kDegToRad, 2) / config_.correlated_pixels;
+  const double max_normal_variance =
+      std::pow(config_.max_normal_std_deg * kDegToRad, 2) / config_.correlated_pixels;
   for (const DetectedPlane& p : model.planes) {
     if (static_cast<int>(p.inliers.size()) < config_.min_landmark_inliers || p.centroid.z() > config_.max_depth) continue;
     if (p.covariance.topLeftCorner<3, 3>().trace() > max_normal_variance) continue;  // see max_normal_std_deg
