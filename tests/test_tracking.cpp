@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -146,17 +147,42 @@ TEST(Tracking, SingleWallStretchIsDegradedAndRecovers) {
   EXPECT_LE(RotationAngle(end_error.linear()) * 180.0 / M_PI, 2.0) << "deg after recovery";
 }
 
+// A rendered view of `scene` (sensor noise seeded by `seed` and the frame index k) tracked as a
+// camera would deliver it: the organized cloud and the frontend's model of it.
+class RenderedViews {
+ public:
+  RenderedViews(const std::string& scene, int seed)
+      : scene_(sim::LoadScene(SourcePath(scene))),
+        camera_(scene_, testing::XtionCamera(), [seed] {
+          sim::RenderConfig render;
+          render.seed = seed;
+          return render;
+        }()),
+        frontend_(testing::XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml"))) {}
+
+  TrackResult Track(Tracker& tracker, const Pose3& T_world_camera, int k, double stamp,
+                    const std::optional<Pose3>& odometry) const {
+    sim::RenderedFrame rendered = camera_.Render(T_world_camera, camera_.FrameSeed(k));
+    RgbdFrame frame;
+    frame.depth = std::move(rendered.depth);
+    frame.stamp = stamp;
+    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, testing::XtionCamera(), CloudConfig{});
+    return tracker.Track(frontend_.Process(*cloud), *cloud, stamp, odometry);
+  }
+
+ private:
+  sim::Scene scene_;
+  sim::VirtualCamera camera_;
+  Frontend frontend_;
+};
+
 // A camera walks 30 cm along the bare south wall of the default scene with only that wall and the
 // floor in view: the planes fix everything but the motion along the wall. Without odometry the
 // prediction (constant velocity, from standing) stays where the walk began; with the walking
 // engine's odometry (here the true motion seen from a drifted odometry frame, scaled by a 5%
 // error as a humanoid's) the tracker follows it.
 TEST(Tracking, WhereNoPlaneFixesThePoseItFollowsTheOdometry) {
-  const sim::Scene scene = sim::LoadScene(SourcePath("configs/scenes/default.yaml"));
-  sim::RenderConfig render;
-  render.seed = 5;
-  const sim::VirtualCamera camera(scene, testing::XtionCamera(), render);
-  const Frontend frontend(testing::XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml")));
+  const RenderedViews views("configs/scenes/default.yaml", 5);
   const auto truth = [](int k) {
     const Eigen::Vector3d eye(0.5 + 0.015 * k, -1.8, 0.6);
     return testing::LookAt(eye, eye + Eigen::Vector3d(0.0, -1.0, -0.35));
@@ -170,18 +196,13 @@ TEST(Tracking, WhereNoPlaneFixesThePoseItFollowsTheOdometry) {
   for (int with_odometry = 0; with_odometry < 2; ++with_odometry) {
     Tracker tracker(TrackingConfig{}, truth(0));
     for (int k = 0; k < frames; ++k) {
-      sim::RenderedFrame rendered = camera.Render(truth(k), camera.FrameSeed(k));
-      RgbdFrame frame;
-      frame.depth = std::move(rendered.depth);
-      frame.stamp = 0.2 * k;
-      const Cloud::Ptr cloud = MakeOrganizedCloud(frame, testing::XtionCamera(), CloudConfig{});
       std::optional<Pose3> odometry;
       if (with_odometry) {
         Pose3 T = truth(k);
         T.translation() = truth(0).translation() + 1.05 * (T.translation() - truth(0).translation());
         odometry = T_odometry_world * T;
       }
-      const TrackResult r = tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp, odometry);
+      const TrackResult r = views.Track(tracker, truth(k), k, 0.2 * k, odometry);
       degraded[with_odometry] += r.status == TrackStatus::kDegraded;
       if (k == frames - 1) error[with_odometry] = (r.T_world_camera.translation() - truth(k).translation()).norm();
     }
@@ -199,11 +220,7 @@ TEST(Tracking, WhereNoPlaneFixesThePoseItFollowsTheOdometry) {
 // Its fitted normal is off by 2-20 deg and differs in every frame; a standing robot's pose must
 // not follow it (it walked 11 cm east in hall seed 6 before tracking.max_normal_std_deg).
 TEST(Tracking, AStandingRobotDoesNotFollowAFarWallSeenEdgeOn) {
-  const sim::Scene scene = sim::LoadScene(SourcePath("configs/scenes/hall.yaml"));
-  sim::RenderConfig render;
-  render.seed = 6;
-  const sim::VirtualCamera camera(scene, testing::XtionCamera(), render);
-  const Frontend frontend(testing::XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml")));
+  const RenderedViews views("configs/scenes/hall.yaml", 6);
   const double heading = 64.9 * M_PI / 180.0, pitch = 20.0 * M_PI / 180.0;
   const Eigen::Vector3d forward(std::cos(heading), std::sin(heading), 0.0);
   const Eigen::Vector3d eye = Eigen::Vector3d(1.745, 0.226, 0.52) + 0.05 * forward;
@@ -216,12 +233,7 @@ TEST(Tracking, AStandingRobotDoesNotFollowAFarWallSeenEdgeOn) {
     if (!gated) config.max_normal_std_deg = 180.0;
     Tracker tracker(config, T_world_camera);
     for (int k = 0; k < frames; ++k) {
-      sim::RenderedFrame rendered = camera.Render(T_world_camera, camera.FrameSeed(k));
-      RgbdFrame frame;
-      frame.depth = std::move(rendered.depth);
-      frame.stamp = k / 15.0;
-      const Cloud::Ptr cloud = MakeOrganizedCloud(frame, testing::XtionCamera(), CloudConfig{});
-      const TrackResult r = tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp, T_world_camera);
+      const TrackResult r = views.Track(tracker, T_world_camera, k, k / 15.0, T_world_camera);
       error[gated] = std::max(error[gated], (r.T_world_camera.translation() - eye).norm());
     }
   }
