@@ -17,6 +17,7 @@
 #include "planemap/frontend/frontend.h"
 #include "planemap/frontend/tracker.h"
 #include "planemap/io/tum_sequence.h"
+#include "planemap/nav/simulated_humanoid.h"
 #include "planemap/sim/walk.h"
 #include "sim_views.h"
 #include "test_support.h"
@@ -221,11 +222,10 @@ TEST(Tracking, WhereNoPlaneFixesThePoseItFollowsTheOdometry) {
 // not follow it (it walked 11 cm east in hall seed 6 before tracking.max_normal_std_deg).
 TEST(Tracking, AStandingRobotDoesNotFollowAFarWallSeenEdgeOn) {
   const RenderedViews views("configs/scenes/hall.yaml", 6);
-  const double heading = 64.9 * M_PI / 180.0, pitch = 20.0 * M_PI / 180.0;
-  const Eigen::Vector3d forward(std::cos(heading), std::sin(heading), 0.0);
-  const Eigen::Vector3d eye = Eigen::Vector3d(1.745, 0.226, 0.52) + 0.05 * forward;
-  const Eigen::Vector3d view = std::cos(pitch) * forward - std::sin(pitch) * Eigen::Vector3d::UnitZ();
-  const Pose3 T_world_camera = testing::LookAt(eye, eye + view);
+  // The humanoid's head camera, standing at the pre-grasp pose the hall runs plan.
+  const Pose3 T_world_camera =
+      nav::NominalCameraPose({1.745, 0.226, 64.9 * M_PI / 180.0}, nav::HumanoidConfig{});
+  const Eigen::Vector3d eye = T_world_camera.translation();
   const int frames = 45;  // 3 s at 15 Hz
   double error[2] = {0.0, 0.0};
   for (int gated = 0; gated < 2; ++gated) {
