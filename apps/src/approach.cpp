@@ -125,6 +125,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
 
   const nav::Pose2 start{options.start[0], options.start[1], options.start[2] * kDegToRad};
   nav::SimulatedHumanoid robot(config.humanoid, start, static_cast<std::uint64_t>(options.seed));
+  nav::OdometryCalibration odometry(config.odometry_calibration);
   // The robot knows where it starts (the paper: from the first frames; here the world is the
   // scene's, as `planemap map` anchors a sequence with ground truth).
   Tracker tracker(config.tracking, robot.CameraPose());
@@ -159,6 +160,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
     ++run.frames;
     if (dropped) {
       ++run.lost_frames;
+      odometry.Correct(robot.OdometryPose());
+      odometry.Observe(std::nullopt);
     } else {
       const auto t0 = Clock::now();
       const sim::VirtualCamera& cam = moved ? *moved_sensor : sensor;
@@ -172,7 +175,11 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
       const FrameModel model = frontend.Process(*cloud);
       const auto t2 = Clock::now();
       const TrackResult tracked =
-          tracker.Track(model, *cloud, t, nav::NominalCameraPose(robot.OdometryPose(), config.humanoid));
+          tracker.Track(model, *cloud, t, nav::NominalCameraPose(odometry.Correct(robot.OdometryPose()), config.humanoid));
+      // Only a pose the planes fixed in every direction measures the gait.
+      odometry.Observe(tracked.status == TrackStatus::kTracked
+                           ? std::optional(nav::BaseFromCamera(tracked.T_world_camera, config.humanoid.camera_forward_offset))
+                           : std::nullopt);
       const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
       const auto t3 = Clock::now();
       run.render_ms.push_back(Ms(t0, t1));
@@ -232,6 +239,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
     }
     robot.Advance(dt);
   }
+  run.gait = {odometry.Scale(), odometry.Lateral(), odometry.CalibratedDistance(), robot.BiasScale(), robot.BiasLateral()};
   run.duration = robot.Time();
   run.reference = run.planned ? mission.ReferencePath() : run.reference;
   run.footsteps = robot.Footsteps();

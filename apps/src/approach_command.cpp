@@ -80,6 +80,10 @@ std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r
   lines.push_back(Printf("  %s estimate at the end: centre %.1f cm off; along the grasp axis %.1f cm deep (true %.1f), %.1f cm across (true %.1f)",
                          r.target.c_str(), 100 * r.object_center_error, 100 * r.object_depth, 100 * r.object_depth_true,
                          100 * r.object_width, 100 * r.object_width_true));
+  lines.push_back(Printf("  gait calibration from %.2f m of tracked walking: forward scale %+.1f %% (true %+.1f), "
+                         "sideways drift %+.1f cm/m (true %+.1f)",
+                         r.gait.distance, 100 * r.gait.scale, 100 * r.gait.scale_true, 100 * r.gait.lateral,
+                         100 * r.gait.lateral_true));
   lines.push_back(TimingLine(r, o.rate));
   return lines;
 }
@@ -211,7 +215,11 @@ int RunApproach(const ApproachCommandOptions& options) {
                          {"collision", r.collision}, {"duration_s", r.duration},
                          {"object_center_error_m", r.object_center_error}, {"object_depth_m", r.object_depth},
                          {"object_depth_true_m", r.object_depth_true}, {"object_width_m", r.object_width},
-                         {"object_width_true_m", r.object_width_true}});
+                         {"object_width_true_m", r.object_width_true},
+                         {"gait_calibration", {{"scale", r.gait.scale}, {"scale_true", r.gait.scale_true},
+                                               {"lateral_m_per_m", r.gait.lateral},
+                                               {"lateral_true_m_per_m", r.gait.lateral_true},
+                                               {"distance_m", r.gait.distance}}}});
   }
   auto row = [&](const char* name, std::vector<double>* v, double scale) {
     std::printf("  %-36s", name);

@@ -11,6 +11,7 @@
 #include "planemap/io/tum_sequence.h"
 #include "planemap/nav/grasp.h"
 #include "planemap/nav/mission.h"
+#include "planemap/nav/odometry_calibration.h"
 #include "planemap/nav/planner.h"
 #include "planemap/nav/simulated_humanoid.h"
 #include "planemap/sim/virtual_camera.h"
@@ -29,6 +30,7 @@ struct AppConfig {
   nav::PlannerConfig planner;
   nav::GraspConfig grasp;
   nav::MissionConfig mission;
+  nav::OdometryCalibrationConfig odometry_calibration;  // the gait's bias, learnt while walking
 
   template <class V>
   void VisitFields(V&& v) {
@@ -43,6 +45,7 @@ struct AppConfig {
     v("planner", planner);
     v("grasp", grasp);
     v("mission", mission);
+    v("odometry_calibration", odometry_calibration);
   }
 };
 

@@ -43,6 +43,13 @@ struct ApproachStop {
   double truth_to_path = 0.0;      // the true position's distance to the reference path [m]
 };
 
+// The gait's bias as the odometry calibration learnt it, and the simulated gait's true one.
+struct GaitCalibration {
+  double scale = 0.0, lateral = 0.0;  // forward scale error [-], sideways drift [m per m walked]
+  double distance = 0.0;              // tracked walking it was learnt from [m]
+  double scale_true = 0.0, lateral_true = 0.0;
+};
+
 struct ApproachRun {
   int scenario = 0, seed = 0;
   bool planned = false;
@@ -59,6 +66,7 @@ struct ApproachRun {
   double object_width = 0.0, object_width_true = 0.0;
   bool grasp_ok = false;                // the grasp check at the final true pose on the true box
   std::string grasp_reason;
+  GaitCalibration gait;
   bool collided = false;                // the true footprint touched an object
   std::string collision;                // which, and when
   double duration = 0.0;                // simulated time [s]

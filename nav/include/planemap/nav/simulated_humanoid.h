@@ -90,6 +90,10 @@ class SimulatedHumanoid : public Humanoid {
   Pose3 CameraPose() const;
   const std::vector<Footstep>& Footsteps() const { return footsteps_; }
   const HumanoidConfig& config() const { return config_; }
+  // This run's gait bias, the ground truth for odometry calibration: forward scale error [-] and
+  // sideways drift [m per m walked].
+  double BiasScale() const { return bias_scale_; }
+  double BiasLateral() const { return bias_lateral_; }
 
  private:
   struct Step {
