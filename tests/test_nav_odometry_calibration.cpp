@@ -65,6 +65,7 @@ Errors CalibrateOverSeeds(const HumanoidConfig& config) {
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     Walker w(config, seed);
     for (const Pose2& leg : kLegs) w.Walk(leg, true);
+    EXPECT_NEAR(w.calibration.CalibratedDistance(), 4.0, 0.3) << "seed " << seed;  // the legs' length
     const Eigen::Vector2d std = w.calibration.Covariance().diagonal().cwiseSqrt();
     const double ds = w.calibration.Scale() - w.robot.BiasScale();
     const double dl = w.calibration.Lateral() - w.robot.BiasLateral();

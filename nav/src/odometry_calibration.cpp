@@ -68,6 +68,10 @@ Eigen::Matrix2d OdometryCalibration::Covariance() const {
   return H.inverse();
 }
 
+double OdometryCalibration::CalibratedDistance() const {
+  return used_distance_ + (open_ && open_->walked >= config_.min_stretch ? open_->walked : 0.0);
+}
+
 // The stretch's displacement error: its two end poses', and the gait's random walk along it.
 double OdometryCalibration::StretchVariance(const Stretch& s) const {
   return 2.0 * config_.end_pose_std * config_.end_pose_std + config_.walk_noise * config_.walk_noise * s.walked;

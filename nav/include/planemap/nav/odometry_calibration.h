@@ -63,7 +63,7 @@ class OdometryCalibration {
   double Scale() const { return parameters_.x(); }    // forward scale error [-]
   double Lateral() const { return parameters_.y(); }  // sideways drift [m per m walked]
   Eigen::Matrix2d Covariance() const;                 // of (scale, lateral)
-  double CalibratedDistance() const { return used_distance_; }  // walked in used stretches [m]
+  double CalibratedDistance() const;  // walked in the stretches used so far, the open one too [m]
 
  private:
   struct Stretch {
