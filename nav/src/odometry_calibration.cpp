@@ -1,17 +1,10 @@
 #include "planemap/nav/odometry_calibration.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <cmath>
 
 namespace planemap::nav {
-namespace {
-
-Eigen::Vector2d Rotate(double angle, const Eigen::Vector2d& v) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
-
-}  // namespace
 
 OdometryCalibration::OdometryCalibration(const OdometryCalibrationConfig& config) : config_(config) {
   ValidateConfig(config_, "odometry_calibration.");
@@ -44,11 +37,12 @@ void OdometryCalibration::Observe(const std::optional<Pose2>& measured) {
   } else {
     // The odometry's increment since the last frame, into the world by the measured heading there.
     const double walked = std::hypot(increment_.x, increment_.y);
+    const Eigen::Rotation2Dd R(last_measured_->theta);
     Eigen::Matrix2d A;
-    A.col(0) = Rotate(last_measured_->theta, Eigen::Vector2d(increment_.x, 0.0));
-    A.col(1) = Rotate(last_measured_->theta, Eigen::Vector2d(0.0, walked));
-    const Eigen::Vector2d r = (measured->Position() - last_measured_->Position()) -
-                              Rotate(last_measured_->theta, Eigen::Vector2d(increment_.x, increment_.y));
+    A.col(0) = R * Eigen::Vector2d(increment_.x, 0.0);
+    A.col(1) = R * Eigen::Vector2d(0.0, walked);
+    const Eigen::Vector2d r =
+        (measured->Position() - last_measured_->Position()) - R * Eigen::Vector2d(increment_.x, increment_.y);
     if ((r - A * parameters_).norm() > config_.max_frame_residual) {
       Close();
       open_ = Stretch{};
