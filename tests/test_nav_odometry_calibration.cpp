@@ -79,12 +79,16 @@ Errors CalibrateOverSeeds(const HumanoidConfig& config) {
   return e;
 }
 
+void Print(const Errors& e) {
+  std::printf("scale error median %.2f %% (bias %.2f %%), sideways %.2f cm/m (bias %.2f cm/m)\n",
+              Median(e.scale), Median(e.scale_bias), Median(e.lateral), Median(e.lateral_bias));
+}
+
 TEST(OdometryCalibration, RecoversTheBiasOfAGaitWithoutRandomStepErrors) {
   HumanoidConfig config;  // bias as by default, head sway, but no random step error
   config.step_noise_xy = config.step_noise_theta_deg = 0.0;
   const Errors e = CalibrateOverSeeds(config);
-  std::printf("scale error median %.2f %% (bias %.2f %%), sideways %.2f cm/m (bias %.2f cm/m)\n", Median(e.scale),
-              Median(e.scale_bias), Median(e.lateral), Median(e.lateral_bias));
+  Print(e);
   // What is left is the model's: the heading measured within a step already holds part of that
   // step's turn bias (0.3 deg std), which turns the odometry's increments by about half of it.
   EXPECT_LT(Median(e.scale), 0.2);    // [%]
@@ -95,8 +99,7 @@ TEST(OdometryCalibration, RecoversTheBiasOfAGaitWithoutRandomStepErrors) {
 
 TEST(OdometryCalibration, LearnsTheGaitsBiasToWithinItsStatedUncertainty) {
   const Errors e = CalibrateOverSeeds(HumanoidConfig{});
-  std::printf("scale error median %.2f %% (bias %.2f %%), sideways %.2f cm/m (bias %.2f cm/m)\n", Median(e.scale),
-              Median(e.scale_bias), Median(e.lateral), Median(e.lateral_bias));
+  Print(e);
   // The random step errors (3 mm a step) bound what 4 m can tell: about 1 %, the stated standard
   // deviation; no run is off by more than 4 of them, and the bias is learnt to a fraction of itself.
   for (double v : e.scale_sigmas) EXPECT_LT(v, 4.0);

@@ -174,12 +174,14 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
       const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
       const FrameModel model = frontend.Process(*cloud);
       const auto t2 = Clock::now();
+      const nav::Pose2 odometry_pose = odometry.Correct(robot.OdometryPose());
       const TrackResult tracked =
-          tracker.Track(model, *cloud, t, nav::NominalCameraPose(odometry.Correct(robot.OdometryPose()), config.humanoid));
+          tracker.Track(model, *cloud, t, nav::NominalCameraPose(odometry_pose, config.humanoid));
       // Only a pose the planes fixed in every direction measures the gait.
-      odometry.Observe(tracked.status == TrackStatus::kTracked
-                           ? std::optional(nav::BaseFromCamera(tracked.T_world_camera, config.humanoid.camera_forward_offset))
-                           : std::nullopt);
+      std::optional<nav::Pose2> measured;
+      if (tracked.status == TrackStatus::kTracked)
+        measured = nav::BaseFromCamera(tracked.T_world_camera, config.humanoid.camera_forward_offset);
+      odometry.Observe(measured);
       const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
       const auto t3 = Clock::now();
       run.render_ms.push_back(Ms(t0, t1));
@@ -239,7 +241,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
     }
     robot.Advance(dt);
   }
-  run.gait = {odometry.Scale(), odometry.Lateral(), odometry.CalibratedDistance(), robot.BiasScale(), robot.BiasLateral()};
+  run.gait = {odometry.Scale(), odometry.Lateral(), odometry.CalibratedDistance(), robot.BiasScale(),
+              robot.BiasLateral()};
   run.duration = robot.Time();
   run.reference = run.planned ? mission.ReferencePath() : run.reference;
   run.footsteps = robot.Footsteps();

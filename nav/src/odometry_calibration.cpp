@@ -68,7 +68,8 @@ double OdometryCalibration::CalibratedDistance() const {
 
 // The stretch's displacement error: its two end poses', and the gait's random walk along it.
 double OdometryCalibration::StretchVariance(const Stretch& s) const {
-  return 2.0 * config_.end_pose_std * config_.end_pose_std + config_.walk_noise * config_.walk_noise * s.walked;
+  return 2.0 * config_.end_pose_std * config_.end_pose_std +
+         config_.walk_noise * config_.walk_noise * s.walked;
 }
 
 Eigen::Matrix2d OdometryCalibration::StretchInformation(const Stretch& s) const {
