@@ -32,7 +32,7 @@ void OdometryCalibration::Observe(const std::optional<Pose2>& measured) {
   if (!config_.enabled || !last_odometry_) return;
   if (!measured) {
     Close();
-  } else if (!last_measured_ || !open_) {
+  } else if (!last_measured_) {
     open_ = Stretch{};  // a stretch starts at this pose
   } else {
     // The odometry's increment since the last frame, into the world by the measured heading there.
@@ -56,14 +56,16 @@ void OdometryCalibration::Observe(const std::optional<Pose2>& measured) {
   Solve();
 }
 
-Eigen::Matrix2d OdometryCalibration::Covariance() const {
-  Eigen::Matrix2d H = information_;
-  if (open_ && open_->walked >= config_.min_stretch) H += StretchInformation(*open_);
-  return H.inverse();
+bool OdometryCalibration::OpenCounts() const { return open_ && open_->walked >= config_.min_stretch; }
+
+Eigen::Matrix2d OdometryCalibration::Information() const {
+  return OpenCounts() ? Eigen::Matrix2d(information_ + StretchInformation(*open_)) : information_;
 }
 
+Eigen::Matrix2d OdometryCalibration::Covariance() const { return Information().inverse(); }
+
 double OdometryCalibration::CalibratedDistance() const {
-  return used_distance_ + (open_ && open_->walked >= config_.min_stretch ? open_->walked : 0.0);
+  return used_distance_ + (OpenCounts() ? open_->walked : 0.0);
 }
 
 // The stretch's displacement error: its two end poses', and the gait's random walk along it.
@@ -81,7 +83,7 @@ Eigen::Vector2d OdometryCalibration::StretchGradient(const Stretch& s) const {
 }
 
 void OdometryCalibration::Close() {
-  if (open_ && open_->walked >= config_.min_stretch) {
+  if (OpenCounts()) {
     information_ += StretchInformation(*open_);
     gradient_ += StretchGradient(*open_);
     used_distance_ += open_->walked;
@@ -90,13 +92,8 @@ void OdometryCalibration::Close() {
 }
 
 void OdometryCalibration::Solve() {
-  Eigen::Matrix2d H = information_;
-  Eigen::Vector2d g = gradient_;
-  if (open_ && open_->walked >= config_.min_stretch) {
-    H += StretchInformation(*open_);
-    g += StretchGradient(*open_);
-  }
-  parameters_ = H.ldlt().solve(g);
+  const Eigen::Vector2d g = OpenCounts() ? Eigen::Vector2d(gradient_ + StretchGradient(*open_)) : gradient_;
+  parameters_ = Information().ldlt().solve(g);
 }
 
 }  // namespace planemap::nav

@@ -73,6 +73,8 @@ class OdometryCalibration {
   };
   void Close();    // ends the open stretch; used when long enough
   void Solve();    // parameters_ from the closed stretches and the open one
+  bool OpenCounts() const;              // a stretch is open and long enough to use
+  Eigen::Matrix2d Information() const;  // prior + closed stretches + the open one if it counts
   double StretchVariance(const Stretch& s) const;                // [m^2]
   Eigen::Matrix2d StretchInformation(const Stretch& s) const;    // A^T A / variance
   Eigen::Vector2d StretchGradient(const Stretch& s) const;       // A^T r / variance
