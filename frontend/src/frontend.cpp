@@ -31,8 +31,8 @@ FrameModel Frontend::Process(const Cloud& cloud) const {
   terminators.structure = model.structure;
   terminators.up = up;
   model.edges = FindIntersections(model.planes, cloud, camera_, config_.intersections, &terminators);
-  // 4. Plane graph, trihedral angles, objects aggregated angle by angle.
-  BuildPlaneGraph(cloud, config_.graph, &model);
+  // 4. Plane graph, trihedral angles, objects aggregated angle by angle (the structure is known).
+  AggregateObjects(config_.graph, &model);
   // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
   MeasureObjects(cloud, config_.objects, up_prior, &model);
   ClassifyObjects(patterns_, config_.objects, up, &model);

@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include "planemap/frontend/plane_segmenter.h"
+
 namespace planemap {
 namespace {
 
@@ -52,8 +54,9 @@ void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other,
   std::vector<double> distance;  // of each band point to `own` [m]; negative: nearer another plane
   const size_t first = band->size();
   ForInliersIn(own, window, cloud, [&](const Eigen::Vector3d& p) {
-    const double d_own = std::abs(own.plane.SignedDistance(p));     // eq. (2) / (4)
     const double d_other = std::abs(other.plane.SignedDistance(p)); // eq. (3) / (5)
+    if (d_other >= std::max(c.d_thresh, c.band_width)) return;      // most of the window: far from the edge
+    const double d_own = std::abs(own.plane.SignedDistance(p));     // eq. (2) / (4)
     if (d_own < c.d_thresh && d_other < c.d_thresh && d_own >= c.d_min && d_other >= c.d_min) points->push_back(p);
     if (d_other < c.d_thresh || d_other >= c.band_width) return;
     bool own_nearest = true;
@@ -290,13 +293,10 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
   std::vector<int> plane_of_pixel(cloud.size(), -1);
   const int w = static_cast<int>(cloud.width);
   for (size_t k = 0; k < planes.size(); ++k) {
-    Eigen::Vector3f low = Eigen::Vector3f::Constant(1e30f), high = -low;
+    boxes[k] = InlierBounds(cloud, planes[k]);
     Window& win = pixels[k];
     int row_start = planes[k].inliers.empty() ? 0 : (planes[k].inliers.front() / w) * w;
     for (int i : planes[k].inliers) {  // sorted by pixel index: the row advances, no division
-      const Eigen::Vector3f p = cloud[i].getVector3fMap();
-      low = low.cwiseMin(p);
-      high = high.cwiseMax(p);
       plane_of_pixel[i] = static_cast<int>(k);
       while (i >= row_start + w) row_start += w;
       const int u = i - row_start;
@@ -306,8 +306,6 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       win.v0 = planes[k].inliers.front() / w;
       win.v1 = planes[k].inliers.back() / w;
     }
-    boxes[k].low = low.cast<double>();
-    boxes[k].high = high.cast<double>();
   }
   // Plane k's pixel box grown by band_width seen at its nearest depth, clipped to the image.
   auto grown = [&](size_t k) {

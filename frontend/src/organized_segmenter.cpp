@@ -213,7 +213,8 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
 // the 8 cells around it, if close enough. Inliers of region r go to (*inliers)[offset + r].
 void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, const Pass& pass,
                 const OrganizedSegmenterConfig& c, size_t offset, std::vector<std::vector<int>>* inliers,
-                std::vector<std::array<double, 10>>* sums, std::vector<double>* fit_count) {
+                std::vector<std::array<double, 10>>* sums, std::vector<double>* fit_count,
+                std::vector<Box3>* bounds) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   const int cs = pass.cs, cw = pass.cw, ch = pass.ch;
   const std::vector<Cell>& cells = pass.cells;
@@ -261,6 +262,7 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
       }
       if (best_region < 0) continue;
       (*inliers)[offset + best_region].push_back(v * w + u);
+      (*bounds)[offset + best_region].Extend(Eigen::Vector3d(x, y, z));
       if (close_planes > 1) continue;
       const double wt = DepthNoiseWeight(z);
       auto& s = (*sums)[offset + best_region];
@@ -284,13 +286,15 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
   std::vector<std::vector<int>> inliers;
   std::vector<std::array<double, 10>> sums;  // weighted w, x, y, z, xx, xy, xz, yy, yz, zz
   std::vector<double> fit_count;
+  std::vector<Box3> bounds;  // of each region's inliers
   for (const int cell_size : {c.cell_size, std::max(4, c.cell_size / 2)}) {
     const Pass pass = GrowPass(cloud, usable, cell_size, cell_size == c.cell_size, c);
     const size_t offset = inliers.size();
     inliers.resize(offset + pass.regions.size());
     sums.resize(inliers.size(), std::array<double, 10>{});
     fit_count.resize(inliers.size(), 0.0);
-    AssignPass(cloud, usable, pass, c, offset, &inliers, &sums, &fit_count);
+    bounds.resize(inliers.size());
+    AssignPass(cloud, usable, pass, c, offset, &inliers, &sums, &fit_count, &bounds);
     for (size_t r = offset; r < inliers.size(); ++r) {  // kept planes' pixels are taken
       if (static_cast<int>(inliers[r].size()) < config_.min_inliers) continue;
       for (int i : inliers[r]) usable[i] = 0;
@@ -314,7 +318,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
       planes.push_back(FitDetectedPlane(cloud, std::move(inliers[r])));
       continue;
     }
-    planes.push_back(MakeDetectedPlane(fit, std::move(inliers[r])));
+    planes.push_back(MakeDetectedPlane(fit, std::move(inliers[r]), bounds[r]));
   }
   return FinishSegmentation(cloud, std::move(planes), valid_points, config_);
 }

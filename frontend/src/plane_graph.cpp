@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "planemap/frontend/plane_segmenter.h"
+
 namespace planemap {
 namespace {
 
@@ -16,15 +18,6 @@ double DistanceToSegment(const Eigen::Vector3d& p, const PlaneEdge& e) {
   return (e.start + t * d - p).norm();
 }
 
-// Extent of a plane's inliers: the diagonal of their bounding box [m].
-double Extent(const Cloud& cloud, const DetectedPlane& plane) {
-  Eigen::Vector3f low = Eigen::Vector3f::Constant(1e30f), high = -low;
-  for (int i : plane.inliers) {
-    low = low.cwiseMin(cloud[i].getVector3fMap());
-    high = high.cwiseMax(cloud[i].getVector3fMap());
-  }
-  return plane.inliers.empty() ? 0.0 : static_cast<double>((high - low).norm());
-}
 
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -55,7 +48,9 @@ void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameMode
   }
   model->structure.assign(n, false);
   for (size_t i = 0; i < n; ++i) {
-    model->structure[i] = static_cast<int>(i) == model->floor || Extent(cloud, planes[i]) > config.structure_min_extent;
+    // The extent of a plane's inliers: the diagonal of their bounding box.
+    model->structure[i] = static_cast<int>(i) == model->floor ||
+                          InlierBounds(cloud, planes[i]).Diagonal() > config.structure_min_extent;
   }
 }
 

@@ -18,6 +18,9 @@ struct DetectedPlane {
   // of the constraint |n| = 1 (so it has rank 3 and n^T C n = 0 for its normal part).
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
   double rms = 0.0;               // weighted RMS point-to-plane distance of the inliers [m]
+  // Axis-aligned box of the inlier points [m], kept by the segmenters that make the plane (they
+  // read every inlier anyway); empty when not computed, and then readers compute it.
+  Box3 bounds;
 };
 
 // Least-squares plane through points given by their first and second moments: the normal is the

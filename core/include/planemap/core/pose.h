@@ -29,6 +29,13 @@ struct Box3 {
   bool Overlaps(const Box3& o, double margin) const {
     return ((low.array() - margin) <= o.high.array()).all() && ((o.low.array() - margin) <= high.array()).all();
   }
+  bool Empty() const { return (low.array() > high.array()).any(); }
+  void Extend(const Eigen::Vector3d& p) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  // Length of the diagonal; 0 when empty [m].
+  double Diagonal() const { return Empty() ? 0.0 : (high - low).norm(); }
 };
 
 // The axis-aligned box holding the box [low, high] moved by T: its 8 corners moved, boxed again.

@@ -117,8 +117,12 @@ std::unique_ptr<PlaneSegmenter> MakePlaneSegmenter(const SegmenterConfig& config
 SegmentationResult FinishSegmentation(const Cloud& cloud, std::vector<DetectedPlane> planes, int valid_points,
                                       const SegmenterConfig& config);
 
-// A detected plane from a fit and the pixels it was fitted to (or that belong to it).
-DetectedPlane MakeDetectedPlane(const PlaneFit& fit, std::vector<int> inliers);
+// A detected plane from a fit and the pixels it was fitted to (or that belong to it), and the
+// box of those pixels' points (empty: not computed).
+DetectedPlane MakeDetectedPlane(const PlaneFit& fit, std::vector<int> inliers, const Box3& bounds = Box3{});
+
+// The box of the plane's inlier points: its bounds when computed, else from the cloud.
+Box3 InlierBounds(const Cloud& cloud, const DetectedPlane& plane);
 
 // Refits a plane by least squares on the given pixels of the cloud, each weighted by the inverse
 // of its depth noise variance (DepthNoiseWeight).
