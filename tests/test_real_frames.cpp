@@ -23,7 +23,9 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 
 CameraIntrinsics OpenNi() { return LoadCameraIntrinsics(SourcePath("configs/cameras/tum_openni_default.yaml")); }
 
-Frontend MakeFrontend() { return Frontend(OpenNi(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml"))); }
+Frontend MakeFrontend(const FrontendConfig& config = FrontendConfig{}) {
+  return Frontend(OpenNi(), config, LoadPatterns(SourcePath("configs/patterns.yaml")));
+}
 
 // mOSD labels: 1-9 the table, 20-29 object 1, 30-39 object 2, ... (README of the data set).
 int ObjectOf(std::uint32_t label) { return label >= 20 ? static_cast<int>(label / 10) - 1 : 0; }
@@ -142,14 +144,38 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   // points (learn0); a box whose narrow left face the segmenter splits into two planes 36 deg
   // apart (learn13); a box whose vertical corner is hidden behind the box in front of it, so its
   // two sides never meet in the image (learn18). The worst face is 6.7 deg off (a 600-pixel top
-  // mostly hidden by the box on it). Both are printed above and are open work. What is asserted:
-  // the table, the boxes found so far, that what is found is right, and that a dimension called
-  // complete is never grossly wrong (an occluded edge once passed for a whole one, 22 cm short):
+  // mostly hidden by the box on it). Both are printed above and are open work. Complete
+  // dimensions are within 1 cm of the labelled extent but one, 10.2 mm over (learn2: its side
+  // faces reach the table, but the labels stop about a centimetre above it, where some 400 points
+  // on the faces' planes are unlabelled). What is asserted: the table, the boxes found so far,
+  // that what is found is right, and that a dimension called complete is never grossly wrong (an
+  // occluded edge once passed for a whole one, 22 cm short):
   ASSERT_GE(f.found, 8);
   EXPECT_GE(*std::min_element(f.iou.begin(), f.iou.end()), 0.8);
   EXPECT_LE(median(f.perpendicular_error_deg), 5.0) << "deg";
   EXPECT_LE(median(f.dimension_error), 0.01) << "m";
-  EXPECT_LE(worst(f.dimension_error), 0.03) << "m";
+  EXPECT_LE(worst(f.dimension_error), 0.015) << "m";
+}
+
+TEST(RealFrames, EdgesEndWhereTheCameraSeesThemEnd) {
+  // learn22: a box stacked on another, its sides flush with the lower box's, which lends the
+  // side planes a few pixels below the upper box; and one side's last centimetre left out by the
+  // segmenter, then missing depth, while the top runs on. Taken at face value, the vertical
+  // edge ran 1.4 cm down into free space (the camera sees 5 cm past it there) and a 23 cm edge
+  // counted whole at 21 cm. An end in front of what the camera sees moves in to the surface; an
+  // edge going on past its end unseen (a surface no plane took, or a face running into missing
+  // depth) is cut.
+  FrontendConfig before;
+  before.intersections.free_space_min_run = 1 << 20;
+  before.intersections.unseen_run_length = 1e3;
+  BoxFigures now, then;
+  EvaluateOsdScene(22, MakeFrontend(), &now);
+  EvaluateOsdScene(22, MakeFrontend(before), &then);
+  ASSERT_EQ(now.found, 1);
+  ASSERT_EQ(then.found, 1);
+  ASSERT_FALSE(now.dimension_error.empty());
+  EXPECT_GT(*std::max_element(then.dimension_error.begin(), then.dimension_error.end()), 0.01) << "m";
+  EXPECT_LE(*std::max_element(now.dimension_error.begin(), now.dimension_error.end()), 0.01) << "m";
 }
 
 TEST(RealFrames, TumOfficeFramesGivePlanesAndNoInventedObjects) {

@@ -268,19 +268,59 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
   // or for face_run_length: the other face stopped there without a corner, so something hides it
   // (a box standing on it). Shorter runs that end in the background are the noise of where a
   // face's last pixels end.
+  // Where the edge goes on unseen for unseen_run_length, the end is cut too: a surface on the
+  // line itself that no plane took (a strip of a face the segmenter left beside the other face's
+  // last pixels), or a face running on past the end into missing depth, so that where it ends is
+  // never seen.
   const int run = static_cast<int>(std::ceil(c.face_run_length / step));
+  int unsegmented = 0;  // pixels of a surface on the line that no plane took, so far
   for (int k = 2; k <= run; ++k) {
     const int i = pixel_past(k, 0, &x);
     if (i < 0) return false;
     const int owner = plane_of_pixel[i];
     if ((owner == a || owner == b) && !is_structure(owner)) continue;
-    if (k == 2 || !IsValidPoint(cloud[i])) return false;  // no run, or it ends where depth does
+    if (owner < 0 && IsValidPoint(cloud[i]) &&
+        (cloud[i].getVector3fMap().cast<double>() - x).norm() < c.occluder_min_gap) {
+      ++unsegmented;
+      continue;
+    }
+    if (unsegmented * step >= c.unseen_run_length) return true;
+    if (!IsValidPoint(cloud[i]) && (k - 2) * step >= c.unseen_run_length) return true;
+    if (k == 2 || !IsValidPoint(cloud[i])) return false;  // no run, or a short one into missing depth
     if (owner >= 0 && std::abs(planes[owner].plane.SignedDistance(x)) < c.occluder_min_gap) {
       return hidden_by(owner);  // as at the end itself
     }
     return cloud[i].z < x.z() - c.occluder_min_gap;  // a nearer surface, or the background
   }
   return run >= 2;
+}
+
+// Free space: where the camera sees past the line by more than occluder_min_gap, the edge is not
+// there (its last points are strays a nearly coplanar neighbour lent one of the planes, as the
+// side of a box stacked flush under another). An end with free_space_min_run pixels of such a
+// stretch moves in to the first point of the line the camera does not see past; a shorter one
+// is where a face's last noisy pixels end. [low, high] is the edge along the line [m].
+void PullEndsOutOfFreeSpace(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Cloud& cloud,
+                            const CameraIntrinsics& camera, const IntersectionConfig& c, double* low, double* high) {
+  auto seen_past = [&](double t) {
+    const Eigen::Vector3d x = origin + t * direction;
+    if (x.z() <= 0.0) return false;
+    const Eigen::Vector2d uv = camera.Project(x);
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    if (u < 0 || v < 0 || u >= camera.width || v >= camera.height) return false;
+    const auto& p = cloud[v * camera.width + u];
+    return IsValidPoint(p) && p.z > x.z() + c.occluder_min_gap;
+  };
+  for (double* end : {high, low}) {
+    const double inward = end == high ? -1.0 : 1.0;
+    double t = *end;
+    int run = 0;
+    while (t >= *low && t <= *high && seen_past(t)) {
+      t += inward * std::max(1e-4, (origin + t * direction).z() / camera.fx);  // about a pixel
+      ++run;
+    }
+    if (run >= c.free_space_min_run) *end = std::clamp(t, *low, *high);
+  }
 }
 
 }  // namespace
@@ -354,6 +394,7 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
           if (t > highest) highest = t, span.high_point = p;
         }
       }
+      PullEndsOutOfFreeSpace(origin, direction, cloud, camera, c, &span.low, &span.high);
       if (span.points < c.min_points || span.high - span.low < c.min_length) continue;
 
       PlaneEdge edge;

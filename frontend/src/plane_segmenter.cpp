@@ -124,7 +124,8 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
         // Both are sorted and disjoint: one linear merge (std::sort of two sorted runs fell back to
         // heapsort and took a tenth of the frontend).
         std::vector<int> inliers(pa.inliers.size() + pb.inliers.size());
-        std::merge(pa.inliers.begin(), pa.inliers.end(), pb.inliers.begin(), pb.inliers.end(), inliers.begin());
+        std::merge(pa.inliers.begin(), pa.inliers.end(), pb.inliers.begin(), pb.inliers.end(),
+                   inliers.begin());
         (*planes)[a] = FitDetectedPlane(cloud, std::move(inliers));
         planes->erase(planes->begin() + b);
         boxes.erase(boxes.begin() + b);

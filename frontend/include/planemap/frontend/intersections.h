@@ -25,6 +25,11 @@ struct IntersectionConfig {
                                     // [m], [fraction]
   double face_run_length = 0.02;    // a face going on this far along the line past an end
                                     // (the other face hidden) cuts it [m]
+  double unseen_run_length = 0.005;  // a surface on the line that no plane took, or a face
+                                     // running into missing depth, going on this far past an
+                                     // end cuts it [m]
+  int free_space_min_run = 3;      // an edge end this many pixels or more in front of what the
+                                   // camera sees there moves in to where it is not [px]
   double band_width = 0.09;        // each plane's extent along the edge is measured on its inliers
                                    // from d_thresh to this far from the other plane [m]
   double end_trim_fraction = 0.0;  // share of each plane's band points ignored at either end
@@ -56,6 +61,8 @@ struct IntersectionConfig {
     v("support_tolerance", support_tolerance, Check::kPositive);
     v("support_max_share", support_max_share, Check::kProbability);
     v("face_run_length", face_run_length, Check::kPositive);
+    v("unseen_run_length", unseen_run_length, Check::kPositive);
+    v("free_space_min_run", free_space_min_run, Check::kPositive);
     v("band_width", band_width, Check::kPositive);
     v("end_trim_fraction", end_trim_fraction, Check::kProbability);
     v("band_on_plane", band_on_plane);
