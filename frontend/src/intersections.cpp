@@ -279,14 +279,14 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
     if (i < 0) return false;
     const int owner = plane_of_pixel[i];
     if ((owner == a || owner == b) && !is_structure(owner)) continue;
-    if (owner < 0 && IsValidPoint(cloud[i]) &&
-        (cloud[i].getVector3fMap().cast<double>() - x).norm() < c.occluder_min_gap) {
+    const bool valid = IsValidPoint(cloud[i]);
+    if (owner < 0 && valid && (cloud[i].getVector3fMap().cast<double>() - x).norm() < c.occluder_min_gap) {
       ++unsegmented;
       continue;
     }
     if (unsegmented * step >= c.unseen_run_length) return true;
-    if (!IsValidPoint(cloud[i]) && (k - 2) * step >= c.unseen_run_length) return true;
-    if (k == 2 || !IsValidPoint(cloud[i])) return false;  // no run, or a short one into missing depth
+    if (!valid && (k - 2) * step >= c.unseen_run_length) return true;
+    if (k == 2 || !valid) return false;  // no run, or a short one into missing depth
     if (owner >= 0 && std::abs(planes[owner].plane.SignedDistance(x)) < c.occluder_min_gap) {
       return hidden_by(owner);  // as at the end itself
     }

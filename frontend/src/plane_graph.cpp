@@ -18,7 +18,6 @@ double DistanceToSegment(const Eigen::Vector3d& p, const PlaneEdge& e) {
   return (e.start + t * d - p).norm();
 }
 
-
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
