@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "planemap/frontend/silhouette.h"
+
 namespace planemap {
 namespace {
 
@@ -101,6 +103,60 @@ std::vector<int> Tracker::LandmarkOfPlane(const FrameModel& model, const std::ve
   std::vector<int> landmark_of_plane(model.planes.size(), -1);
   for (size_t i = 0; i < observed.size(); ++i) landmark_of_plane[observed[i].plane] = std::max(-1, landmark_of[i]);
   return landmark_of_plane;
+}
+
+std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, const Cloud& cloud,
+                                                     const std::vector<Observation>& observed,
+                                                     const std::vector<int>& landmark_of, const Pose3& T) const {
+  std::vector<PointsOnPlane> groups;
+  const double max_dot = std::cos(80.0 * kDegToRad);  // a side is perpendicular to the face
+  for (size_t i = 0; i < observed.size(); ++i) {
+    if (landmark_of[i] < 0) continue;
+    const auto object = std::find_if(map_.objects.begin(), map_.objects.end(), [&](const MapObject& o) {
+      return std::count(o.landmarks.begin(), o.landmarks.end(), landmark_of[i]) > 0;
+    });
+    if (object == map_.objects.end()) continue;
+    // The cuboid's sides next to this face, outward normals, where its dimension is whole.
+    std::vector<Plane> sides;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d axis = object->axes.col(k);
+      if (!object->dimension_complete[k] || std::abs(axis.dot(observed[i].world.normal)) > max_dot) continue;
+      for (double sign : {1.0, -1.0}) {
+        const Eigen::Vector3d n = sign * axis;
+        sides.push_back({n, -n.dot(object->center + 0.5 * object->dimensions[k] * n)});
+      }
+    }
+    if (sides.empty()) continue;
+    std::vector<std::vector<Eigen::Vector3d>> on_side(sides.size());
+    for (int p : SilhouettePixels(cloud, model.planes[observed[i].plane].inliers, config_.silhouette_min_gap,
+                                  config_.silhouette_max_missing)) {
+      const Eigen::Vector3d x = cloud[p].getVector3fMap().cast<double>();
+      const Eigen::Vector3d xw = T * x;
+      int best = -1;
+      for (size_t j = 0; j < sides.size(); ++j) {
+        const double d = std::abs(sides[j].SignedDistance(xw));
+        if (d <= config_.silhouette_max_distance && (best < 0 || d < std::abs(sides[best].SignedDistance(xw)))) {
+          best = static_cast<int>(j);
+        }
+      }
+      if (best >= 0) on_side[best].push_back(x);
+    }
+    for (size_t j = 0; j < sides.size(); ++j) {
+      if (static_cast<int>(on_side[j].size()) < config_.silhouette_min_points) continue;
+      double sum = 0.0, sum_sq = 0.0;
+      PointMoments moments;
+      for (const Eigen::Vector3d& x : on_side[j]) {
+        const double d = sides[j].SignedDistance(T * x);
+        sum += d;
+        sum_sq += d * d;
+        moments.Add(x, DepthNoiseWeight(x.z()));
+      }
+      const double n = static_cast<double>(on_side[j].size());
+      if (sum_sq / n - (sum / n) * (sum / n) > config_.silhouette_max_spread * config_.silhouette_max_spread) continue;
+      groups.push_back({moments, sides[j], 1.0});
+    }
+  }
+  return groups;
 }
 
 bool Tracker::Agrees(const Observation& o, const Plane& landmark) const {
@@ -259,16 +315,22 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   }
 
   result.T_planes = T;
+  std::vector<PointsOnPlane> silhouettes;  // degraded: box sides fixed by a face's silhouette
   if (!first && !used.empty() && config_.refine == "points") {
     // Every inlier of the used planes against its landmark's plane, from the closed-form pose (or,
     // degraded, from the prediction), the prediction as a weak prior for what no plane fixes.
     std::vector<PointsOnPlane> groups;
     for (int i : used) groups.push_back({observed[i].moments, map_.landmarks[landmark_of[i]].plane, 1.0});
+    if (config_.use_silhouettes && result.status == TrackStatus::kDegraded) {
+      silhouettes = SilhouetteGroups(model, cloud, observed, landmark_of, T);
+      groups.insert(groups.end(), silhouettes.begin(), silhouettes.end());
+    }
     const PointToPlaneResult aligned =
         AlignPointsToPlanes(groups, T, prior, config_.prior_weight, config_.refine_iterations, config_.refine_robust_scale);
     if (IsSmallCorrection(T.inverse() * aligned.T_target_source, config_.refine_max_translation, config_.refine_max_rotation_deg)) {
       T = aligned.T_target_source;
       result.refined = true;
+      result.silhouettes = static_cast<int>(silhouettes.size());
     }
   } else if (result.status == TrackStatus::kTracked && !first && config_.refine == "icp") {
     // ICP on points rebuilt from the inliers of every extracted plane, against the landmarks'
@@ -305,9 +367,12 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   if (!first && result.status == TrackStatus::kDegraded) {
     Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();
     for (int i : used) normals += map_.landmarks[landmark_of[i]].plane.normal * map_.landmarks[landmark_of[i]].plane.normal.transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(normals);
-    rotation_observed = std::sqrt(std::max(0.0, eigen.eigenvalues()[1])) >= config_.ransac.min_normal_spread;
+    rotation_observed = NormalSingularValues(normals)[1] >= config_.ransac.min_normal_spread;
     if (!rotation_observed) result.reason += "; the rotation about the one plane normal is predicted too";
+    // A silhouette fixes its side's offset (a position), not a rotation.
+    for (int k = 0; k < result.silhouettes; ++k) normals += silhouettes[k].target.normal * silhouettes[k].target.normal.transpose();
+    if (result.silhouettes > 0) result.reason += "; " + std::to_string(result.silhouettes) + " box silhouettes";
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(normals);
     for (int k = 0; k < 3; ++k) {
       if (std::sqrt(std::max(0.0, eigen.eigenvalues()[k])) < config_.ransac.min_normal_spread) {
         unobserved += eigen.eigenvectors().col(k) * eigen.eigenvectors().col(k).transpose();

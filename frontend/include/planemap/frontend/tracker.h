@@ -103,6 +103,19 @@ struct TrackingConfig {
   double object_moved_distance = 0.05;   // [m]
   double object_moved_angle_deg = 8.0;   // [deg]
   int object_moved_views = 10;
+  // Box silhouettes, in degraded frames only: where a matched face of a mapped cuboid ends against
+  // background (silhouette.h), its last pixels lie on the cuboid's neighbouring face, placed by the
+  // map object's centre, axes and whole dimensions; they fix what the planes leave free (at the
+  // hall's pre-grasp pose the floor, the box top and one wall: the box top's far and side ends fix
+  // the rest). Such pixels count for a side when within silhouette_max_distance of it at the
+  // plane-fixed pose, at least silhouette_min_points of them, their distances to it spread by
+  // at most silhouette_max_spread (a straight edge along it, not a ragged occlusion).
+  bool use_silhouettes = true;
+  double silhouette_min_gap = 0.03;      // the camera sees at least this much past the edge [m]
+  int silhouette_max_missing = 3;        // pixels without depth skipped past the edge [px]
+  double silhouette_max_distance = 0.05; // [m]
+  int silhouette_min_points = 20;        // [px]
+  double silhouette_max_spread = 0.01;   // standard deviation [m]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -136,6 +149,12 @@ struct TrackingConfig {
     v("object_moved_distance", object_moved_distance, Check::kPositive);
     v("object_moved_angle_deg", object_moved_angle_deg, Check::kPositive);
     v("object_moved_views", object_moved_views, Check::kPositive);
+    v("use_silhouettes", use_silhouettes);
+    v("silhouette_min_gap", silhouette_min_gap, Check::kPositive);
+    v("silhouette_max_missing", silhouette_max_missing, Check::kNonNegative);
+    v("silhouette_max_distance", silhouette_max_distance, Check::kPositive);
+    v("silhouette_min_points", silhouette_min_points, Check::kPositive);
+    v("silhouette_max_spread", silhouette_max_spread, Check::kPositive);
   }
 };
 
@@ -158,6 +177,7 @@ struct TrackResult {
   int inliers = 0;      // RANSAC inliers among them
   int added = 0;        // new landmarks
   bool refined = false; // the refinement (points or ICP) was accepted
+  int silhouettes = 0;  // degraded: box sides whose silhouette pixels took part in the refinement
   std::string reason;   // why the frame is degraded or lost; empty when tracked
 };
 
@@ -200,6 +220,11 @@ class Tracker {
   // The distance gate widens by `drift` times the landmark normal's part along unobserved_.
   std::vector<Candidate> Associate(const std::vector<Observation>& observed, double max_angle_deg,
                                    double max_distance, int per_plane, double drift) const;
+  // Degraded frames: per cuboid side next to a matched face, that face's silhouette pixels
+  // (camera frame) against the side's plane (world), at the pose T the planes fixed.
+  std::vector<PointsOnPlane> SilhouetteGroups(const FrameModel& model, const Cloud& cloud,
+                                              const std::vector<Observation>& observed,
+                                              const std::vector<int>& landmark_of, const Pose3& T) const;
   // Merges the frame's edges and objects into the map; records the object matches in `record`.
   void MergeEdgesAndObjects(const FrameModel& model, const std::vector<int>& landmark_of_plane,
                             const Pose3& T_world_camera, FrameObservations* record);
