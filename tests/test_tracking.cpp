@@ -276,11 +276,14 @@ TEST(Tracking, ABoxTopsSilhouetteLiesOnItsSides) {
   const Pose3 T_object_world = box.T_world_object.inverse();
   for (int i : pixels) {
     const int u = i % static_cast<int>(cloud->width), v = i / static_cast<int>(cloud->width);
-    on_border += u == 0 || v == 0 || u + 1 == static_cast<int>(cloud->width) || v + 1 == static_cast<int>(cloud->height);
+    const int width = static_cast<int>(cloud->width), height = static_cast<int>(cloud->height);
+    on_border += u == 0 || v == 0 || u + 1 == width || v + 1 == height;
     const Eigen::Vector3d x = T_object_world * (T_world_camera * (*cloud)[i].getVector3fMap().cast<double>());
-    distances.push_back(std::min(0.5 * box.dimensions.x() - std::abs(x.x()), 0.5 * box.dimensions.y() - std::abs(x.y())));
+    distances.push_back(
+        std::min(0.5 * box.dimensions.x() - std::abs(x.x()), 0.5 * box.dimensions.y() - std::abs(x.y())));
   }
-  const double median = testing::Median(distances), worst = *std::max_element(distances.begin(), distances.end());
+  const double median = testing::Median(distances);
+  const double worst = *std::max_element(distances.begin(), distances.end());
   std::printf("box top at the hall's pre-grasp pose: %zu inliers, %zu silhouette pixels, inside the true sides by "
               "%.1f mm median, %.1f mm at most\n", top->inliers.size(), pixels.size(), 1000 * median, 1000 * worst);
   EXPECT_GE(pixels.size(), 100u);
@@ -329,7 +332,9 @@ TEST(Tracking, NearABoxItsSilhouettesFixWhatThePlanesLeaveFree) {
       const TrackResult r = views.Track(tracker, truth, k, k / 15.0, odometry(k));
       degraded[use] += r.status == TrackStatus::kDegraded;
       with_silhouettes += use && r.silhouettes > 0;
-      if (k == look + walk + last + stand) error[use] = (r.T_world_camera.translation() - truth.translation()).norm();
+      if (k == look + walk + last + stand) {
+        error[use] = (r.T_world_camera.translation() - truth.translation()).norm();
+      }
     }
   }
   std::printf("1.75 m to the hall's pre-grasp pose on odometry off by 10%% and 5 cm/m: final camera error "

@@ -4,7 +4,8 @@
 
 namespace planemap {
 
-std::vector<int> SilhouettePixels(const Cloud& cloud, const std::vector<int>& inliers, double min_gap, int max_missing) {
+std::vector<int> SilhouettePixels(const Cloud& cloud, const std::vector<int>& inliers, double min_gap,
+                                  int max_missing) {
   const int width = static_cast<int>(cloud.width), height = static_cast<int>(cloud.height);
   std::vector<std::uint8_t> own(static_cast<size_t>(width) * height, 0);
   for (int i : inliers) own[i] = 1;

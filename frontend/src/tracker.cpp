@@ -107,7 +107,8 @@ std::vector<int> Tracker::LandmarkOfPlane(const FrameModel& model, const std::ve
 
 std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, const Cloud& cloud,
                                                      const std::vector<Observation>& observed,
-                                                     const std::vector<int>& landmark_of, const Pose3& T) const {
+                                                     const std::vector<int>& landmark_of,
+                                                     const Pose3& T) const {
   std::vector<PointsOnPlane> groups;
   const double max_dot = std::cos(80.0 * kDegToRad);  // a side is perpendicular to the face
   for (size_t i = 0; i < observed.size(); ++i) {
@@ -133,9 +134,11 @@ std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, co
       const Eigen::Vector3d x = cloud[p].getVector3fMap().cast<double>();
       const Eigen::Vector3d xw = T * x;
       int best = -1;
+      double nearest = config_.silhouette_max_distance;
       for (size_t j = 0; j < sides.size(); ++j) {
         const double d = std::abs(sides[j].SignedDistance(xw));
-        if (d <= config_.silhouette_max_distance && (best < 0 || d < std::abs(sides[best].SignedDistance(xw)))) {
+        if (d <= nearest) {
+          nearest = d;
           best = static_cast<int>(j);
         }
       }
@@ -152,7 +155,8 @@ std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, co
         moments.Add(x, DepthNoiseWeight(x.z()));
       }
       const double n = static_cast<double>(on_side[j].size());
-      if (sum_sq / n - (sum / n) * (sum / n) > config_.silhouette_max_spread * config_.silhouette_max_spread) continue;
+      const double spread_sq = sum_sq / n - (sum / n) * (sum / n);
+      if (spread_sq > config_.silhouette_max_spread * config_.silhouette_max_spread) continue;
       groups.push_back({moments, sides[j], 1.0});
     }
   }
@@ -370,8 +374,12 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     rotation_observed = NormalSingularValues(normals)[1] >= config_.ransac.min_normal_spread;
     if (!rotation_observed) result.reason += "; the rotation about the one plane normal is predicted too";
     // A silhouette fixes its side's offset (a position), not a rotation.
-    for (int k = 0; k < result.silhouettes; ++k) normals += silhouettes[k].target.normal * silhouettes[k].target.normal.transpose();
-    if (result.silhouettes > 0) result.reason += "; " + std::to_string(result.silhouettes) + " box silhouettes";
+    for (int k = 0; k < result.silhouettes; ++k) {
+      normals += silhouettes[k].target.normal * silhouettes[k].target.normal.transpose();
+    }
+    if (result.silhouettes > 0) {
+      result.reason += "; " + std::to_string(result.silhouettes) + " box silhouettes";
+    }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(normals);
     for (int k = 0; k < 3; ++k) {
       if (std::sqrt(std::max(0.0, eigen.eigenvalues()[k])) < config_.ransac.min_normal_spread) {

@@ -15,6 +15,7 @@ namespace planemap {
 // farther along the optical axis. A pixel with a neighbouring non-inlier that is nearer, within
 // min_gap, or without depth for longer (an occluder, an unsegmented strip of the same surface, a
 // hole) is not one, nor is a pixel whose search runs off the image: the surface may go on there.
-std::vector<int> SilhouettePixels(const Cloud& cloud, const std::vector<int>& inliers, double min_gap, int max_missing);
+std::vector<int> SilhouettePixels(const Cloud& cloud, const std::vector<int>& inliers, double min_gap,
+                                  int max_missing);
 
 }  // namespace planemap
