@@ -104,6 +104,7 @@ struct Trial {
   double lost_from = 1e9, lost_to = 1e9;                   // no estimates in [lost_from, lost_to) [s]
   double object_moves_at = 1e9;                            // the object then moves ...
   Eigen::Vector2d object_shift = Eigen::Vector2d::Zero();  // ... by this [m]
+  MissionConfig mission;
 };
 
 struct Outcome {
@@ -134,7 +135,7 @@ Outcome Simulate(const Trial& run) {
   MapObject truth = map.objects[0];
   const Pose2 start{0.0, 0.0, 0.0};
   FakeHumanoid robot(start, run.walk, run.seed);
-  Mission mission(run.scenario, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+  Mission mission(run.scenario, run.mission, PlannerConfig{}, GraspConfig{}, &robot);
   const PlanResult plan = mission.Plan(map, 0, start);
   EXPECT_TRUE(plan.ok) << plan.reason;
   Outcome out;
@@ -262,8 +263,8 @@ TEST(Mission, NeitherPathNorWalkCrossesAnInflatedObstacle) {
                     (last_leg ? planner.final_leg_radius : planner.robot_radius) * 100.0);
         }
       }
-      // With feedback the walk itself keeps clear: no closer than the last leg's body radius.
-      if (k == 0) continue;
+      // The walk itself keeps clear: no closer than the last leg's body radius (feedback corrects
+      // the gait; the open loop stops before a leg without open_loop_margin).
       for (const Pose2& pose : out.trajectory) {
         ASSERT_GE(std::min(CrateOrWallDistance(pose.Position()), BoxDistance(pose.Position())) * 100.0,
                   planner.final_leg_radius * 100.0)
@@ -271,6 +272,28 @@ TEST(Mission, NeitherPathNorWalkCrossesAnInflatedObstacle) {
       }
     }
   }
+}
+
+// A blind leg cannot correct the gait's error on the way: scenario 1 refuses one that would keep
+// less than open_loop_margin, and stops where the last accepted leg ended, that far clear.
+TEST(Mission, TheOpenLoopStopsBeforeALegWithoutMargin) {
+  const PlannerConfig planner;
+  Trial run;
+  run.scenario = Scenario::kOpenLoop;
+  run.mission.open_loop_margin = 0.0;
+  const Outcome reached = Simulate(run);
+  ASSERT_TRUE(reached.status.Reached()) << reached.status.reason;
+  // The perfect walk's last leg keeps less than this beyond the toes (final_leg_radius) ...
+  const double box_at_end = BoxDistance(reached.final_pose.Position());
+  run.mission.open_loop_margin = box_at_end - planner.final_leg_radius + 0.01;
+  const Outcome out = Simulate(run);
+  EXPECT_EQ(out.status.outcome, MissionStatus::Outcome::kStopped);
+  EXPECT_NE(out.status.reason.find("open_loop_margin"), std::string::npos) << out.status.reason;
+  EXPECT_FALSE(out.walking_at_end);
+  // ... so the robot stops at an earlier control point, farther than the margin from the box.
+  EXPECT_GE(BoxDistance(out.final_pose.Position()) * 100.0,
+            (planner.final_leg_radius + run.mission.open_loop_margin) * 100.0);
+  EXPECT_LT(out.records.size(), reached.records.size());
 }
 
 TEST(Mission, ScenarioThreeSwitchesToTheObjectAfterEightControlPoints) {

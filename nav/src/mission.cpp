@@ -148,14 +148,20 @@ void PathStep(State& s, double time, const Pose2& estimate);
 
 // Walks `command` (base frame) if its straight leg from the estimate is free; else re-plans
 // (scenarios 2, 3) or stops (scenario 1: the open loop has no plan to change).
+// Scenario 1 also stops when the leg would keep less than open_loop_margin: it cannot correct
+// the gait's error on the way.
 bool Issue(State& s, double time, const Pose2& estimate, const Pose2& command) {
   const Eigen::Vector2d end = Compose(estimate, command).Position();
-  if (!SegmentFree(s.grid, estimate.Position(), end)) {
-    if (s.scenario == Scenario::kOpenLoop) {
-      Finish(s, Outcome::kStopped,
-             "open loop: the next planned leg, from the estimated pose, would cross an obstacle");
-      return false;
-    }
+  const double slack = SegmentSlack(s.grid, estimate.Position(), end);
+  if (s.scenario == Scenario::kOpenLoop && slack < s.config.open_loop_margin) {
+    Finish(s, Outcome::kStopped,
+           slack < 0.0 ? "open loop: the next planned leg, from the estimated pose, would cross an obstacle"
+                       : Format("open loop: the next planned leg, from the estimated pose, would keep only %.1f cm "
+                                "beyond the robot's radius from an obstacle (open_loop_margin %.1f cm)",
+                                100.0 * slack, 100.0 * s.config.open_loop_margin));
+    return false;
+  }
+  if (slack < 0.0) {
     if (!Replan(s, estimate, false)) return false;
     PathStep(s, time, estimate);  // at the start of the new plan; bounded by max_replans
     return false;

@@ -398,8 +398,12 @@ std::vector<Pose2> ControlPoints(const std::vector<Pose2>& path, double spacing,
   return points;
 }
 
+double SegmentSlack(const OccupancyGrid& grid, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return grid.Empty() ? -1.0 : MinSlack(grid, a, b);
+}
+
 bool SegmentFree(const OccupancyGrid& grid, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return !grid.Empty() && MinSlack(grid, a, b) >= 0.0;
+  return SegmentSlack(grid, a, b) >= 0.0;
 }
 
 }  // namespace planemap::nav

@@ -49,6 +49,9 @@ struct MissionConfig {
   double max_step = 0.30;                 // longest commanded walk in one feedback step [m]
   double max_turn_deg = 60.0;             // largest commanded turn in one feedback step [deg]
   int max_replans = 5;                    // more re-plans than this end the mission
+  // Scenario 1 walks each leg blind: it stops rather than start one that, from the estimated pose,
+  // keeps less slack than this to the nearest obstacle; the gait's error over one leg [m].
+  double open_loop_margin = 0.02;
 
   template <class V>
   void VisitFields(V&& v) {
@@ -70,6 +73,7 @@ struct MissionConfig {
     v("max_step", max_step, Check::kPositive);
     v("max_turn_deg", max_turn_deg, Check::kPositive);
     v("max_replans", max_replans, Check::kNonNegative);
+    v("open_loop_margin", open_loop_margin, Check::kNonNegative);
   }
 };
 

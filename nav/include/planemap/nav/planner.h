@@ -112,6 +112,9 @@ PlanResult PlanPath(const OccupancyGrid& grid, const Pose2& start, const Pose2& 
 // the last one is `goal` with its heading.
 std::vector<Pose2> ControlPoints(const std::vector<Pose2>& path, double spacing, const Pose2& goal);
 
+// The least grid.Slack along the straight leg a -> b, sampled every half cell; -1 on an empty grid [m].
+double SegmentSlack(const OccupancyGrid& grid, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
 // Whether the robot's centre may move along the straight leg a -> b (grid.Free all along).
 bool SegmentFree(const OccupancyGrid& grid, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
 
