@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
 
 #include "planemap/apps/approach.h"
 #include "test_support.h"
@@ -108,6 +111,32 @@ TEST(Approach, BadOptionsAreNamed) {
   o = Options(3, 1);
   o.scene = "/nonexistent/scene.yaml";
   EXPECT_THROW(RunApproachOnce(o), std::exception);
+}
+
+// A table loads its files once: a settings file edited (here: broken) while it runs neither
+// stops nor changes the runs still to come; a fresh load names the broken file.
+TEST(Approach, ATablesInputsAreLoadedOnce) {
+  ApproachOptions o = Options(3, 1);
+  const std::string copy = ::testing::TempDir() + "planemap_approach_settings.yaml";
+  {
+    std::ifstream in(o.config);
+    std::ofstream out(copy);
+    out << in.rdbuf();
+  }
+  o.config = copy;
+  o.max_time = 1.0;
+  const std::shared_ptr<const ApproachInputs> inputs = LoadApproachInputs(o);
+  std::ofstream(copy) << "mission:\n  k_position: -1.0\n";
+  const ApproachRun r = RunApproachOnce(o, *inputs);
+  EXPECT_GE(r.frames, 14);  // 1 s at 15 Hz
+  try {
+    RunApproachOnce(o);
+    ADD_FAILURE() << "a broken settings file was read without an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find(copy), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("k_position"), std::string::npos) << e.what();
+  }
+  std::remove(copy.c_str());
 }
 
 }  // namespace

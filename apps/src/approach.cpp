@@ -4,8 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 
@@ -34,10 +32,11 @@ std::string Seconds(double s) {
   return text;
 }
 
-// The scene with one object moved by (dx, dy) [m] and turned by dyaw [deg]: the scene file
-// edited and loaded again, so the moved object's surfaces are built as any scene's are.
-sim::Scene MovedScene(const std::string& file, const std::string& object, const std::vector<double>& by, int seed) {
-  YAML::Node root = YAML::LoadFile(file);
+// The scene with one object moved by (dx, dy) [m] and turned by dyaw [deg]: the scene file's
+// contents edited and parsed again, so the moved object's surfaces are built as any scene's are.
+sim::Scene MovedScene(const YAML::Node& scene_yaml, const std::string& file, const std::string& object,
+                      const std::vector<double>& by) {
+  YAML::Node root = YAML::Clone(scene_yaml);
   bool found = false;
   for (YAML::Node o : root["objects"]) {
     if (o["name"].as<std::string>() != object) continue;
@@ -48,15 +47,7 @@ sim::Scene MovedScene(const std::string& file, const std::string& object, const 
     found = true;
   }
   if (!found) ThrowInputError(file, 0, "no object named '" + object + "' to move");
-  const std::filesystem::path moved =
-      std::filesystem::temp_directory_path() / ("planemap_moved_scene_" + std::to_string(seed) + "_" + object + ".yaml");
-  {
-    std::ofstream out(moved);
-    out << root;
-  }
-  sim::Scene scene = sim::LoadScene(moved.string());
-  std::filesystem::remove(moved);
-  return scene;
+  return sim::ParseScene(root, file + " (object " + object + " moved)");
 }
 
 // The scene object as the map would hold it, grasped from the true face nearest the estimate's
@@ -108,18 +99,39 @@ const sim::SceneObject& NearestObject(const sim::Scene& scene, const Eigen::Vect
 
 }  // namespace
 
-ApproachRun RunApproachOnce(const ApproachOptions& options) {
+struct ApproachInputs {
+  std::string scene_file;
+  YAML::Node scene_yaml;  // the file's contents, for moving an object
+  sim::Scene scene;
+  CameraIntrinsics camera;
+  AppConfig config;
+  PatternsConfig patterns;
+};
+
+std::shared_ptr<const ApproachInputs> LoadApproachInputs(const ApproachOptions& options) {
+  auto inputs = std::make_shared<ApproachInputs>();
+  inputs->scene_file = ResolveConfigPath(options.scene);
+  inputs->scene_yaml = LoadYamlFile(inputs->scene_file);
+  inputs->scene = sim::ParseScene(inputs->scene_yaml, inputs->scene_file);
+  if (inputs->scene.objects.empty()) ThrowInputError(inputs->scene_file, 0, "the scene has no objects to approach");
+  inputs->camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
+  inputs->config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
+  inputs->patterns = LoadPatterns(ResolveConfigPath(options.patterns));
+  return inputs;
+}
+
+ApproachRun RunApproachOnce(const ApproachOptions& options) { return RunApproachOnce(options, *LoadApproachInputs(options)); }
+
+ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs& inputs) {
   if (options.scenario < 1 || options.scenario > 3) throw InputError("--scenario must be 1, 2 or 3");
   if (options.start.size() != 3) throw InputError("--start needs x y heading_deg");
   if (options.move_object_by.size() != 3) throw InputError("--move-by needs dx dy dyaw_deg");
   if (options.rate <= 0.0) throw InputError("--rate must be positive");
-  const std::string scene_file = ResolveConfigPath(options.scene);
-  const sim::Scene scene = sim::LoadScene(scene_file);
-  if (scene.objects.empty()) ThrowInputError(scene_file, 0, "the scene has no objects to approach");
-  const CameraIntrinsics camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
-  AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
+  const sim::Scene& scene = inputs.scene;
+  const CameraIntrinsics& camera = inputs.camera;
+  AppConfig config = inputs.config;
   config.render.seed = options.seed;
-  const Frontend frontend(camera, config.frontend, LoadPatterns(ResolveConfigPath(options.patterns)));
+  const Frontend frontend(camera, config.frontend, inputs.patterns);
   const sim::VirtualCamera sensor(scene, camera, config.render);
   std::unique_ptr<sim::VirtualCamera> moved_sensor;  // built when the target is known
 
@@ -149,7 +161,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options) {
       break;
     }
     if (!moved && target_truth && options.move_object_at >= 0.0 && t >= options.move_object_at) {
-      moved_scene = MovedScene(scene_file, target_truth->name, options.move_object_by, options.seed);
+      moved_scene = MovedScene(inputs.scene_yaml, inputs.scene_file, target_truth->name, options.move_object_by);
       moved_sensor = std::make_unique<sim::VirtualCamera>(moved_scene, camera, config.render);
       target_truth = &moved_scene.object(target_truth->name);
       footprints = Footprints(moved_scene);

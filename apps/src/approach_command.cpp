@@ -157,6 +157,8 @@ int RunApproach(const ApproachCommandOptions& options) {
   if (!options.report.empty() || !options.map.empty()) throw InputError("--report and --map are for a single run, not --table");
   if (options.seeds < 1) throw InputError("--seeds must be 1 or more");
   // Every (scenario, seed) pair, in parallel; results in order whatever the scheduling.
+  // Every run reads the files as they are now: an edit while the table runs changes nothing.
+  const std::shared_ptr<const ApproachInputs> inputs = LoadApproachInputs(options.run);
   std::vector<ApproachRun> runs(3 * options.seeds);
   std::atomic<int> next{0}, done{0};
   std::mutex print;
@@ -173,7 +175,7 @@ int RunApproach(const ApproachCommandOptions& options) {
         o.scenario = 1 + i / options.seeds;
         o.seed = options.run.seed + i % options.seeds;
         try {
-          runs[i] = RunApproachOnce(o);
+          runs[i] = RunApproachOnce(o, *inputs);
         } catch (...) {
           const std::lock_guard<std::mutex> lock(print);
           if (!failure) failure = std::current_exception();

@@ -4,6 +4,7 @@
 // robot's true head pose, goes through the frontend, the tracker and the sliding window, and
 // the mission (nav/) reads the smoothed base pose and the map's estimate of the box, and
 // commands the next walk. Ground truth (the robot's true pose, the scene's box) only scores it.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -79,7 +80,16 @@ struct ApproachRun {
   PlaneMap map;                          // the tracker's map at the end
 };
 
-// One closed-loop run. Throws InputError for unreadable inputs or bad options.
+// What a run reads from files (scene, camera, settings, patterns), loaded and checked once: a
+// table's runs share one snapshot, so editing a file while the table runs cannot change or stop it.
+struct ApproachInputs;
+// Throws InputError naming the file for unreadable or invalid inputs.
+std::shared_ptr<const ApproachInputs> LoadApproachInputs(const ApproachOptions& options);
+
+// One closed-loop run on inputs loaded from options' files (scenario and seed from options).
+// Throws InputError for bad options.
+ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs& inputs);
+// The same, loading the inputs first.
 ApproachRun RunApproachOnce(const ApproachOptions& options);
 
 }  // namespace planemap
