@@ -113,14 +113,17 @@ std::shared_ptr<const ApproachInputs> LoadApproachInputs(const ApproachOptions& 
   inputs->scene_file = ResolveConfigPath(options.scene);
   inputs->scene_yaml = LoadYamlFile(inputs->scene_file);
   inputs->scene = sim::ParseScene(inputs->scene_yaml, inputs->scene_file);
-  if (inputs->scene.objects.empty()) ThrowInputError(inputs->scene_file, 0, "the scene has no objects to approach");
+  if (inputs->scene.objects.empty())
+    ThrowInputError(inputs->scene_file, 0, "the scene has no objects to approach");
   inputs->camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
   inputs->config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
   inputs->patterns = LoadPatterns(ResolveConfigPath(options.patterns));
   return inputs;
 }
 
-ApproachRun RunApproachOnce(const ApproachOptions& options) { return RunApproachOnce(options, *LoadApproachInputs(options)); }
+ApproachRun RunApproachOnce(const ApproachOptions& options) {
+  return RunApproachOnce(options, *LoadApproachInputs(options));
+}
 
 ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs& inputs) {
   if (options.scenario < 1 || options.scenario > 3) throw InputError("--scenario must be 1, 2 or 3");
@@ -161,7 +164,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       break;
     }
     if (!moved && target_truth && options.move_object_at >= 0.0 && t >= options.move_object_at) {
-      moved_scene = MovedScene(inputs.scene_yaml, inputs.scene_file, target_truth->name, options.move_object_by);
+      moved_scene =
+          MovedScene(inputs.scene_yaml, inputs.scene_file, target_truth->name, options.move_object_by);
       moved_sensor = std::make_unique<sim::VirtualCamera>(moved_scene, camera, config.render);
       target_truth = &moved_scene.object(target_truth->name);
       footprints = Footprints(moved_scene);

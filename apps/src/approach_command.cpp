@@ -156,9 +156,9 @@ int RunApproach(const ApproachCommandOptions& options) {
   }
   if (!options.report.empty() || !options.map.empty()) throw InputError("--report and --map are for a single run, not --table");
   if (options.seeds < 1) throw InputError("--seeds must be 1 or more");
-  // Every (scenario, seed) pair, in parallel; results in order whatever the scheduling.
   // Every run reads the files as they are now: an edit while the table runs changes nothing.
   const std::shared_ptr<const ApproachInputs> inputs = LoadApproachInputs(options.run);
+  // Every (scenario, seed) pair, in parallel; results in order whatever the scheduling.
   std::vector<ApproachRun> runs(3 * options.seeds);
   std::atomic<int> next{0}, done{0};
   std::mutex print;

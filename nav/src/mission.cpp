@@ -154,11 +154,13 @@ bool Issue(State& s, double time, const Pose2& estimate, const Pose2& command) {
   const Eigen::Vector2d end = Compose(estimate, command).Position();
   const double slack = SegmentSlack(s.grid, estimate.Position(), end);
   if (s.scenario == Scenario::kOpenLoop && slack < s.config.open_loop_margin) {
+    const char* leg = "open loop: the next planned leg, from the estimated pose, would ";
     Finish(s, Outcome::kStopped,
-           slack < 0.0 ? "open loop: the next planned leg, from the estimated pose, would cross an obstacle"
-                       : Format("open loop: the next planned leg, from the estimated pose, would keep only %.1f cm "
-                                "beyond the robot's radius from an obstacle (open_loop_margin %.1f cm)",
-                                100.0 * slack, 100.0 * s.config.open_loop_margin));
+           std::string(leg) +
+               (slack < 0.0 ? "cross an obstacle"
+                            : Format("keep only %.1f cm beyond the robot's radius from an obstacle "
+                                     "(open_loop_margin %.1f cm)",
+                                     100.0 * slack, 100.0 * s.config.open_loop_margin)));
     return false;
   }
   if (slack < 0.0) {
