@@ -127,6 +127,10 @@ TEST(Scene, FurnitureIsBuiltFromItsPartsInItsOwnFrame) {
   // The desk's legs stand on the floor; its top is 0.735 m high.
   const SceneObject& desk = scene.object("desk");
   EXPECT_NEAR(desk.dimensions.z(), 0.735, 1e-12);
+  // Its centre is its bounding box's, half its height up, not its frame's origin on the floor.
+  EXPECT_NEAR(desk.Center().z(), 0.735 / 2, 1e-12);
+  EXPECT_NEAR((desk.Center() - desk.T_world_object.translation()).head<2>().norm(), 0.0, 1e-12);
+  EXPECT_NEAR(scene.object("box").Center().z(), scene.object("box").T_world_object.translation().z(), 1e-12);
   for (size_t index : desk.cuboids) {
     const Cuboid& c = scene.cuboids[index];
     EXPECT_GE(c.T_world_box.translation().z() - c.dimensions.z() / 2, -1e-12);

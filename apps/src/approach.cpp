@@ -55,7 +55,7 @@ sim::Scene MovedScene(const YAML::Node& scene_yaml, const std::string& file, con
 MapObject TrueObject(const sim::SceneObject& o, const Eigen::Vector3d& estimated_grasp_axis) {
   MapObject m;
   m.label = o.type;
-  m.center = o.T_world_object.translation();
+  m.center = o.Center();
   m.axes = o.T_world_object.linear();
   m.dimensions = o.dimensions;
   double best = -2.0;
@@ -92,7 +92,7 @@ int FindTarget(const PlaneMap& map, const std::string& label) {
 const sim::SceneObject& NearestObject(const sim::Scene& scene, const Eigen::Vector3d& p) {
   const sim::SceneObject* best = &scene.objects.front();
   for (const sim::SceneObject& o : scene.objects) {
-    if ((o.T_world_object.translation() - p).head<2>().norm() < (best->T_world_object.translation() - p).head<2>().norm()) best = &o;
+    if ((o.Center() - p).head<2>().norm() < (best->Center() - p).head<2>().norm()) best = &o;
   }
   return *best;
 }

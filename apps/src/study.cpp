@@ -51,7 +51,7 @@ Eigen::Vector3d Eye(const StudyConfig& study, const StudyRun& run, const sim::Sc
   const Eigen::Vector3d x_axis = object.T_world_object.linear().col(0);
   double bearing = std::atan2(x_axis.y(), x_axis.x()) - run.viewing_angle_deg * kDegToRad;
   if (study.frames > 1) bearing += study.path_length / run.distance * (static_cast<double>(k) / (study.frames - 1) - 0.5);
-  const Eigen::Vector3d c = object.T_world_object.translation();
+  const Eigen::Vector3d c = object.Center();
   return {c.x() + run.distance * std::cos(bearing), c.y() + run.distance * std::sin(bearing), study.camera_height};
 }
 
@@ -203,7 +203,7 @@ std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run
   // Every cell sees the same noise draws for the same seed (common random numbers), so cells
   // differ by what the sweep changes, not by luck.
   const std::uint64_t base = 1000003ULL * static_cast<std::uint64_t>(study.seed) + 1009ULL * static_cast<std::uint64_t>(run.seed);
-  const Eigen::Vector3d center = object.T_world_object.translation();
+  const Eigen::Vector3d center = object.Center();
   std::optional<Tracker> tracker;
   int tracked = 0;
   std::vector<Pose3> truth_poses, tracked_poses;

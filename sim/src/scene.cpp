@@ -251,6 +251,7 @@ class SceneBuilder {
       }
     }
     object.dimensions = high - low;
+    object.bounds_center = 0.5 * (low + high);
     scene_->objects.push_back(std::move(object));
   }
 

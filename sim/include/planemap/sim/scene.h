@@ -46,7 +46,11 @@ struct SceneObject {
   // Centre of the bounding box, x = front normal; for furniture, the frame its parts are placed in.
   Pose3 T_world_object = Pose3::Identity();
   Eigen::Vector3d dimensions = Eigen::Vector3d::Ones();  // bounding box along object x, y, z [m]
+  Eigen::Vector3d bounds_center = Eigen::Vector3d::Zero();  // its centre in the object frame: zero but for furniture [m]
   std::vector<size_t> cuboids;          // indices into Scene::cuboids
+
+  // The bounding box's centre in the world [m].
+  Eigen::Vector3d Center() const { return T_world_object * bounds_center; }
 };
 
 // A square ArUco marker printed on a surface.
