@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -128,28 +129,29 @@ std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, co
       }
     }
     if (sides.empty()) continue;
-    std::vector<std::vector<Eigen::Vector3d>> on_side(sides.size());
+    // Per side, its pixels (camera frame) and their signed distances to it at T.
+    std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> on_side(sides.size());
     for (int p : SilhouettePixels(cloud, model.planes[observed[i].plane].inliers, config_.silhouette_min_gap,
                                   config_.silhouette_max_missing)) {
       const Eigen::Vector3d x = cloud[p].getVector3fMap().cast<double>();
       const Eigen::Vector3d xw = T * x;
       int best = -1;
-      double nearest = config_.silhouette_max_distance;
+      double nearest = config_.silhouette_max_distance, signed_distance = 0.0;
       for (size_t j = 0; j < sides.size(); ++j) {
-        const double d = std::abs(sides[j].SignedDistance(xw));
-        if (d <= nearest) {
-          nearest = d;
+        const double d = sides[j].SignedDistance(xw);
+        if (std::abs(d) <= nearest) {
+          nearest = std::abs(d);
+          signed_distance = d;
           best = static_cast<int>(j);
         }
       }
-      if (best >= 0) on_side[best].push_back(x);
+      if (best >= 0) on_side[best].emplace_back(x, signed_distance);
     }
     for (size_t j = 0; j < sides.size(); ++j) {
       if (static_cast<int>(on_side[j].size()) < config_.silhouette_min_points) continue;
       double sum = 0.0, sum_sq = 0.0;
       PointMoments moments;
-      for (const Eigen::Vector3d& x : on_side[j]) {
-        const double d = sides[j].SignedDistance(T * x);
+      for (const auto& [x, d] : on_side[j]) {
         sum += d;
         sum_sq += d * d;
         moments.Add(x, DepthNoiseWeight(x.z()));
