@@ -105,6 +105,26 @@ TEST(Approach, ScenarioThreeEndsAtThePreGraspPoseInRoomsAddedAfterTuning) {
   }
 }
 
+// The corridor's box stands 3 m ahead, nearly square-on: from the start it shows one face and a
+// glancing top, never three faces. The robot looks again from a viewpoint off that face.
+TEST(Approach, ABoxNotMappedFromTheStartIsLookedAtAgainThenApproached) {
+  ApproachOptions o = Options(3, 1);
+  o.scene = testing::SourcePath("configs/scenes/corridor.yaml");
+  const ApproachRun r = RunApproachOnce(o);
+  Print("corridor", r);
+  ASSERT_FALSE(r.viewpoints.empty());
+  for (const nav::Viewpoint& v : r.viewpoints) {
+    std::printf("  viewpoint (%.2f, %.2f) m, %.2f m from the face at (%.2f, %.2f) m\n", v.pose.x, v.pose.y,
+                (v.pose.Position() - v.candidate.center).norm(), v.candidate.center.x(), v.candidate.center.y());
+  }
+  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
+  EXPECT_EQ(r.target, "box");
+  EXPECT_FALSE(r.collided) << r.collision;
+  EXPECT_LT(r.position_error * 100.0, 3.0) << "cm";
+  EXPECT_LT(r.heading_error * kRadToDeg, 5.0) << "deg";
+  EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
+}
+
 TEST(Approach, BadOptionsAreNamed) {
   ApproachOptions o = Options(4, 1);
   EXPECT_THROW(RunApproachOnce(o), std::exception);

@@ -14,6 +14,7 @@
 #include "planemap/nav/grasp.h"
 #include "planemap/nav/humanoid.h"
 #include "planemap/nav/mission.h"
+#include "planemap/nav/search.h"
 #include "test_support.h"
 
 namespace planemap::nav {
@@ -389,6 +390,88 @@ TEST(Mission, PlanFailuresComeBackWithReasons) {
   PlannerConfig wide;
   wide.final_leg_radius = GraspConfig{}.body_clearance;
   EXPECT_THROW(Mission(Scenario::kOpenLoop, MissionConfig{}, wide, GraspConfig{}, &robot), std::invalid_argument);
+}
+
+// Floor and wall as Room()'s; no object mapped, but one face of a box 2.5 m ahead (seen
+// square-on: one face, no object); a short face of an object classified a chair (`decided`:
+// with its height measured); a short face seen once; a locker's tall door.
+PlaneMap SearchRoom(bool decided) {
+  PlaneMap map;
+  map.landmarks.push_back(Rectangle(0, {1.25, 0.0, 0.0}, kX, 2.25, kY, 2.0));
+  map.landmarks[0].floor_votes = 1;
+  map.landmarks.push_back(Rectangle(1, {3.5, 0.0, 1.0}, kZ, 1.0, kY, 2.0));
+  map.landmarks.push_back(Rectangle(2, {2.5, 0.3, 0.13}, kY, 0.16, kZ, 0.13));
+  map.landmarks.push_back(Rectangle(3, {1.5, -1.0, 0.2}, kX, 0.15, kZ, 0.2));
+  map.landmarks.push_back(Rectangle(4, {1.2, 1.0, 0.15}, kX, 0.15, kZ, 0.15));
+  map.landmarks.push_back(Rectangle(5, {3.0, -1.5, 0.9}, kX, 0.25, kZ, 0.9));
+  for (PlaneLandmark& l : map.landmarks) l.observations = 10;
+  map.landmarks[4].observations = 1;
+  MapObject chair = Box({1.5, -1.15, 0.2}, 0.0, {0.3, 0.3, 0.4});
+  chair.label = "chair";
+  chair.landmarks = {3};
+  chair.dimension_complete[2] = decided;
+  map.objects.push_back(chair);
+  return map;
+}
+
+TEST(Search, CandidatesAreLowNarrowFacesNoMeasuredObjectExplains) {
+  const SearchConfig config;
+  std::vector<SearchCandidate> c = SearchCandidates(SearchRoom(true), Pose2{}, config, "box");
+  ASSERT_EQ(c.size(), 1u);  // not the floor, the wall, the chair's face, the face seen once, the door
+  EXPECT_EQ(c[0].landmark, 2);
+  EXPECT_LT(100.0 * (c[0].center - Eigen::Vector2d(2.5, 0.3)).norm(), 1.0);
+  EXPECT_LT(std::acos(c[0].normal.dot(-Eigen::Vector2d::UnitX())) / kDeg, 1.0);
+  EXPECT_NEAR(c[0].distance, std::hypot(2.5, 0.3), 0.01);
+  // With its height unmeasured the "chair" may be a box whose top went unseen: nearer, first.
+  c = SearchCandidates(SearchRoom(false), Pose2{}, config, "box");
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].landmark, 3);
+  EXPECT_EQ(c[1].landmark, 2);
+}
+
+TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const PlaneMap map = SearchRoom(true);
+    FakeHumanoid robot({}, Drifting(seed), seed);
+    const SearchConfig config;
+    Search search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+    std::string why;
+    ASSERT_TRUE(search.Next(map, Pose2{}, "box", &why)) << why;
+    ASSERT_EQ(search.Viewpoints().size(), 1u);
+    const Viewpoint v = search.Viewpoints()[0];
+    const Eigen::Vector2d off = v.pose.Position() - v.candidate.center;
+    EXPECT_NEAR(off.norm(), config.view_distance, 1e-9);
+    EXPECT_NEAR(std::acos(off.normalized().dot(v.candidate.normal)) / kDeg, config.view_angle_deg, 1e-6);
+    EXPECT_NEAR(WrapAngle(v.pose.theta - std::atan2(-off.y(), -off.x())), 0.0, 1e-9);  // facing the face
+    EXPECT_LT(v.pose.y, v.candidate.center.y());  // of the two sides, the one nearer the robot
+    for (int frame = 0; frame < 120 * kRate && search.Walking(); ++frame) {
+      search.Update(frame / kRate, robot.TruePose());  // an exact estimate: the gait drifts
+      robot.Advance(1.0 / kRate);
+    }
+    ASSERT_TRUE(search.Status().Reached()) << search.Status().reason;
+    EXPECT_NE(search.Status().reason.find("the viewpoint"), std::string::npos) << search.Status().reason;
+    EXPECT_LT(100.0 * (robot.TruePose().Position() - v.pose.Position()).norm(), 3.0);
+    EXPECT_LT(std::abs(WrapAngle(robot.TruePose().theta - v.pose.theta)) / kDeg, 3.0);
+    EXPECT_FALSE(search.Next(map, robot.TruePose(), "box", &why));
+    EXPECT_NE(why.find("every candidate face was looked at again (1 viewpoints)"), std::string::npos) << why;
+  }
+  FakeHumanoid robot({}, {}, 1);
+  SearchConfig none;
+  none.views_max = 0;
+  std::string why;
+  EXPECT_FALSE(Search(none, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot)
+                   .Next(SearchRoom(true), Pose2{}, "box", &why));
+  EXPECT_NE(why.find("search.views_max"), std::string::npos) << why;
+  PlaneMap bare = SearchRoom(true);  // floor and wall only
+  bare.landmarks.resize(2);
+  bare.objects.clear();
+  EXPECT_FALSE(Search(SearchConfig{}, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot)
+                   .Next(bare, Pose2{}, "box", &why));
+  EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
+  SearchConfig bad;
+  bad.view_distance = 0.0;
+  EXPECT_THROW(Search(bad, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot), std::invalid_argument);
 }
 
 TEST(Mission, DistanceToPath) {

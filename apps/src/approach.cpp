@@ -146,6 +146,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   Tracker tracker(config.tracking, robot.CameraPose());
   SlidingWindow window(config.backend);
   nav::Mission mission(static_cast<nav::Scenario>(options.scenario), config.mission, config.planner, config.grasp, &robot);
+  nav::Search search(config.search, config.mission, config.planner, config.grasp, &robot);
+  double view_start = 0.0;  // when the robot began standing at the start or at its last viewpoint [s]
 
   ApproachRun run;
   run.scenario = options.scenario;
@@ -212,8 +214,18 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
     }
     run.truth_path.push_back(robot.TruePose());
 
-    // Plan once the robot has looked around and mapped its target.
-    if (!run.planned && estimate && t >= options.look_time) {
+    // Plan once the robot has looked around and mapped its target; without one, look again
+    // from a viewpoint (nav::Search), walked to with path feedback in every scenario.
+    if (!run.planned && search.Walking()) {
+      search.Update(t, estimate);
+      if (!search.Walking()) {
+        if (!search.Status().Reached()) {
+          run.status = {nav::MissionStatus::Outcome::kStopped, "looking again: " + search.Status().reason};
+          break;
+        }
+        view_start = t;
+      }
+    } else if (!run.planned && estimate && t - view_start >= options.look_time) {
       target = FindTarget(tracker.map(), options.target);
       if (target >= 0) {
         const nav::PlanResult plan = mission.Plan(tracker.map(), target, *estimate);
@@ -226,10 +238,14 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
         run.target = target_truth->name;
         run.reference = mission.ReferencePath();
         run.pregrasp_planned = mission.PreGraspTarget();
-      } else if (t >= options.look_timeout) {
-        run.status = {nav::MissionStatus::Outcome::kStopped,
-                      "no " + options.target + " in the map after " + Seconds(options.look_timeout) + " of looking"};
-        break;
+      } else if (t - view_start >= (search.Viewpoints().empty() ? options.look_timeout : config.search.look_time)) {
+        std::string why;
+        if (!search.Next(tracker.map(), *estimate, options.target, &why)) {
+          run.status = {nav::MissionStatus::Outcome::kStopped,
+                        "no " + options.target + " in the map after " + Seconds(t) + " of looking; " + why};
+          break;
+        }
+        run.viewpoints = search.Viewpoints();
       }
     }
     if (run.planned) {

@@ -60,6 +60,12 @@ std::string TimingLine(const ApproachRun& r, double rate) {
 std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r) {
   std::vector<std::string> lines;
   lines.push_back(Printf("planemap approach: %s, scenario %d (%s), seed %d", o.scene.c_str(), r.scenario, kScenarioNames[r.scenario], r.seed));
+  for (const nav::Viewpoint& v : r.viewpoints) {
+    lines.push_back(Printf("  no target mapped: looked again from (%.2f, %.2f) m, heading %.0f deg, at the face (landmark %d) "
+                           "centred at (%.2f, %.2f) m",
+                           v.pose.x, v.pose.y, v.pose.theta * kRadToDeg, v.candidate.landmark, v.candidate.center.x(),
+                           v.candidate.center.y()));
+  }
   if (!r.planned) {
     lines.push_back(Printf("  stopped before planning: %s", r.status.reason.c_str()));
     return lines;
@@ -212,6 +218,7 @@ int RunApproach(const ApproachCommandOptions& options) {
     s["paper_average_error_m"] = kPaperAverage[r.scenario] / 100;
     s["paper_pregrasp_error_m"] = kPaperPregrasp[r.scenario] / 100;
     s["runs"].push_back({{"seed", r.seed}, {"planned", r.planned}, {"reached", r.status.Reached()}, {"reason", r.status.reason},
+                         {"target", r.target}, {"viewpoints", r.viewpoints.size()},
                          {"average_error_m", r.average_error}, {"pregrasp_position_error_m", r.position_error},
                          {"pregrasp_heading_error_rad", r.heading_error}, {"grasp_ok", r.grasp_ok}, {"collided", r.collided},
                          {"collision", r.collision}, {"duration_s", r.duration},

@@ -39,6 +39,7 @@ struct MissionState {
   bool lost = false, retarget = false;
   MissionStatus status;
   std::vector<ControlPointRecord> records;
+  std::string goal_name = "the pre-grasp pose";  // PlanTo: "the viewpoint"
 };
 
 namespace {
@@ -178,7 +179,7 @@ void PathStep(State& s, double time, const Pose2& estimate) {
   if (s.command_complete || s.scenario == Scenario::kOpenLoop) {  // open loop: nothing to redo
     Record(s, time, estimate, s.target, s.control_points[s.target], Phase::kPath);
     if (s.target + 1 >= static_cast<int>(s.control_points.size())) {
-      Finish(s, Outcome::kReached, "arrived at the last control point, the pre-grasp pose");
+      Finish(s, Outcome::kReached, "arrived at the last control point, " + s.goal_name);
       return;
     }
     ++s.target;
@@ -297,6 +298,24 @@ void WatchObject(State& s, double time, const MapObject& object) {
   }
 }
 
+// A new plan starts a new run, with the same settings.
+void Reset(std::unique_ptr<MissionState>& state) {
+  MissionState fresh;
+  fresh.scenario = state->scenario;
+  fresh.config = state->config;
+  fresh.planner = state->planner;
+  fresh.grasp = state->grasp;
+  fresh.robot = state->robot;
+  *state = std::move(fresh);
+}
+
+// Scenario 1's legs between the control points, computed in advance.
+void MakeLegs(State& s) {
+  s.legs.assign(s.control_points.size(), Pose2{});
+  for (size_t k = 1; k < s.control_points.size(); ++k)
+    s.legs[k] = Between(s.control_points[k - 1], s.control_points[k]);
+}
+
 }  // namespace
 
 Mission::Mission(Scenario scenario, const MissionConfig& config, const PlannerConfig& planner,
@@ -320,13 +339,7 @@ Mission::Mission(Scenario scenario, const MissionConfig& config, const PlannerCo
 Mission::~Mission() = default;
 
 PlanResult Mission::Plan(const PlaneMap& map, int object_index, const Pose2& start_estimate) {
-  MissionState fresh;  // a new plan starts a new run, with the same settings
-  fresh.scenario = state_->scenario;
-  fresh.config = state_->config;
-  fresh.planner = state_->planner;
-  fresh.grasp = state_->grasp;
-  fresh.robot = state_->robot;
-  *state_ = std::move(fresh);
+  Reset(state_);
   MissionState& s = *state_;
   PlanResult failure;
   if (object_index < 0 || object_index >= static_cast<int>(map.objects.size())) {
@@ -346,10 +359,21 @@ PlanResult Mission::Plan(const PlaneMap& map, int object_index, const Pose2& sta
   }
   PlanResult result = MakePlan(s, start_estimate);
   if (!result.ok) return result;
-  s.legs.assign(s.control_points.size(), Pose2{});
-  for (size_t k = 1; k < s.control_points.size(); ++k)
-    s.legs[k] = Between(s.control_points[k - 1], s.control_points[k]);
+  MakeLegs(s);
   s.status = {Outcome::kRunning, "walking to the pre-grasp pose"};
+  return result;
+}
+
+PlanResult Mission::PlanTo(const PlaneMap& map, const Pose2& goal, const Pose2& start_estimate) {
+  Reset(state_);
+  MissionState& s = *state_;
+  s.map = map;
+  s.pre_grasp = goal;
+  s.goal_name = "the viewpoint";
+  PlanResult result = MakePlan(s, start_estimate);
+  if (!result.ok) return result;
+  MakeLegs(s);
+  s.status = {Outcome::kRunning, "walking to the viewpoint"};
   return result;
 }
 

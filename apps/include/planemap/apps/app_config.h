@@ -13,6 +13,7 @@
 #include "planemap/nav/mission.h"
 #include "planemap/nav/odometry_calibration.h"
 #include "planemap/nav/planner.h"
+#include "planemap/nav/search.h"
 #include "planemap/nav/simulated_humanoid.h"
 #include "planemap/sim/virtual_camera.h"
 
@@ -30,6 +31,7 @@ struct AppConfig {
   nav::PlannerConfig planner;
   nav::GraspConfig grasp;
   nav::MissionConfig mission;
+  nav::SearchConfig search;  // looking again when the target is not mapped
   nav::OdometryCalibrationConfig odometry_calibration;  // the gait's bias, learnt while walking
 
   template <class V>
@@ -45,6 +47,7 @@ struct AppConfig {
     v("planner", planner);
     v("grasp", grasp);
     v("mission", mission);
+    v("search", search);
     v("odometry_calibration", odometry_calibration);
   }
 };

@@ -12,6 +12,7 @@
 
 #include "planemap/core/plane_map.h"
 #include "planemap/nav/mission.h"
+#include "planemap/nav/search.h"
 #include "planemap/nav/pose2.h"
 #include "planemap/nav/simulated_humanoid.h"
 
@@ -28,7 +29,8 @@ struct ApproachOptions {
   std::vector<double> start{0.0, 0.0, 0.0};   // the robot's start: x y [m] heading [deg]
   double rate = 30.0;                         // camera frames per second [Hz]
   double look_time = 0.5;                     // standing at the start before planning [s] ...
-  double look_timeout = 3.0;                  // ... and at most this long when no target is mapped [s]
+  double look_timeout = 3.0;                  // ... and at most this long when no target is mapped,
+                                              // then looks again from viewpoints (config search:) [s]
   double max_time = 240.0;                    // the run ends here whatever happens [s]
   double body_radius = 0.08;                  // the robot's true footprint, for collisions [m]
   double move_object_at = -1.0;               // move the target in the scene at this time [s] (< 0: never)
@@ -56,6 +58,7 @@ struct ApproachRun {
   bool planned = false;
   nav::MissionStatus status;
   std::string target;                   // the scene object approached
+  std::vector<nav::Viewpoint> viewpoints;  // where it looked again before the target was mapped
   std::vector<ApproachStop> stops;
   double average_error = 0.0;           // mean of truth_to_path over the stops [m]
   double position_error = 0.0;          // final true position to the true pre-grasp position [m]

@@ -104,6 +104,9 @@ class Mission {
   // (index 0 = start). Not ok (and the mission stays idle) for a bad index, an object the arms
   // cannot grasp, or no path.
   PlanResult Plan(const PlaneMap& map, int object_index, const Pose2& start_estimate);
+  // A walk to a pose with no object (nav::Search's viewpoints): the same path following, no
+  // approach phase, no object to watch; Update() gets a null object.
+  PlanResult PlanTo(const PlaneMap& map, const Pose2& goal, const Pose2& start_estimate);
   // Every camera frame: time [s], the estimated base pose (nullopt: frame lost) and the target
   // object's current estimate (world; may be null).
   void Update(double time, const std::optional<Pose2>& estimate, const MapObject* object_estimate);

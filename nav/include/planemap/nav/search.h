@@ -1,0 +1,98 @@
+#pragma once
+// Looking again when the target is not in the map (beyond the paper, whose robot starts in view
+// of its object). The paper's frontend needs three faces of a box to call it one; a box far away,
+// or seen square-on, shows one face and a glancing top. That face is still in the map, as a plane
+// landmark no object explains. The search walks to a viewpoint view_distance from such a face
+// and view_angle_deg off its normal, where two sides and the top show, stands and looks again;
+// the nearest candidate first, at most views_max viewpoints.
+//
+// A candidate face: vertical, at least candidate_min_observations frames, no taller (its top
+// above the floor) than candidate_max_height and no wider than candidate_max_width, and not a face
+// of an object classified as something other than the target or unknown with its height measured
+// (a locker's door is no box; two faces on the floor with their top unseen may be one). Walls,
+// furniture tops and the floor never are.
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planemap/core/config.h"
+#include "planemap/core/plane_map.h"
+#include "planemap/nav/grasp.h"
+#include "planemap/nav/humanoid.h"
+#include "planemap/nav/mission.h"
+#include "planemap/nav/planner.h"
+#include "planemap/nav/pose2.h"
+
+namespace planemap::nav {
+
+struct SearchConfig {
+  int views_max = 3;                       // viewpoints walked to before giving up [-]
+  double view_distance = 0.7;              // viewpoint to the candidate face's centre [m]
+  double view_angle_deg = 40.0;            // viewpoint off the face's normal, either side [deg]
+  double look_time = 1.5;                  // standing at a viewpoint, looking, before the next [s]
+  // A candidate face's top above the floor, at most: below the camera (0.52 m), so a face that
+  // only ends at the image's top edge (a pillar, a wall near by) is not taken for one that ends [m].
+  double candidate_max_height = 0.48;
+  double candidate_max_width = 0.60;       // its horizontal extent, at most [m]
+  int candidate_min_observations = 3;      // frames that saw it, at least [-]
+  double candidate_vertical_tolerance_deg = 10.0;  // its normal this close to horizontal [deg]
+  double visited_radius = 0.40;            // a face this close to one looked at already is skipped [m]
+
+  template <class V>
+  void VisitFields(V&& v) {
+    v("views_max", views_max, Check::kNonNegative);
+    v("view_distance", view_distance, Check::kPositive);
+    v("view_angle_deg", view_angle_deg, Check::kNonNegative);
+    v("look_time", look_time, Check::kNonNegative);
+    v("candidate_max_height", candidate_max_height, Check::kPositive);
+    v("candidate_max_width", candidate_max_width, Check::kPositive);
+    v("candidate_min_observations", candidate_min_observations, Check::kNonNegative);
+    v("candidate_vertical_tolerance_deg", candidate_vertical_tolerance_deg, Check::kNonNegative);
+    v("visited_radius", visited_radius, Check::kNonNegative);
+  }
+};
+
+// A face that may be the target's, seen too poorly to make an object of.
+struct SearchCandidate {
+  int landmark = -1;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();  // its extent's centre on the floor (world) [m]
+  Eigen::Vector2d normal = Eigen::Vector2d::UnitX();  // unit, toward the cameras that saw it
+  double distance = 0.0;                              // from the robot [m]
+};
+
+// The map's candidate faces for a target of class `target_label`, nearest to `robot` first.
+std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot, const SearchConfig& config,
+                                              const std::string& target_label);
+
+struct Viewpoint {
+  Pose2 pose;                      // where the robot stands, facing the face's centre (world)
+  SearchCandidate candidate;
+};
+
+class Search {
+ public:
+  // `robot` must outlive the search. Throws std::invalid_argument on an invalid config.
+  Search(const SearchConfig& config, const MissionConfig& mission, const PlannerConfig& planner,
+         const GraspConfig& grasp, Humanoid* robot);
+  ~Search();
+
+  // Plans the walk to the next viewpoint: the nearest candidate not looked at yet, from whichever
+  // side is free and nearer. False, with the reason, when none is left or views_max are used.
+  bool Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label, std::string* reason);
+  // Every camera frame while Walking(): drives the walk with path feedback.
+  void Update(double time, const std::optional<Pose2>& estimate);
+  bool Walking() const;
+  // How the last walk ended (kReached: standing at the viewpoint).
+  MissionStatus Status() const;
+  const std::vector<Viewpoint>& Viewpoints() const;
+  const SearchConfig& Config() const;
+
+ private:
+  SearchConfig config_;
+  Mission walk_;
+  std::vector<Viewpoint> viewpoints_;
+};
+
+}  // namespace planemap::nav
