@@ -115,7 +115,8 @@ TEST(Approach, ABoxNotMappedFromTheStartIsLookedAtAgainThenApproached) {
   ASSERT_FALSE(r.viewpoints.empty());
   for (const nav::Viewpoint& v : r.viewpoints) {
     std::printf("  viewpoint (%.2f, %.2f) m, %.2f m from the face at (%.2f, %.2f) m\n", v.pose.x, v.pose.y,
-                (v.pose.Position() - v.candidate.center).norm(), v.candidate.center.x(), v.candidate.center.y());
+                (v.pose.Position() - v.candidate.center).norm(), v.candidate.center.x(),
+                v.candidate.center.y());
   }
   ASSERT_TRUE(r.status.Reached()) << r.status.reason;
   EXPECT_EQ(r.target, "box");

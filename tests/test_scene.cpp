@@ -2,6 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "planemap/core/error.h"
 #include "planemap/sim/scene.h"
 #include "test_support.h"
@@ -33,6 +35,25 @@ TEST(Scene, DefaultSceneHasTheLayoutOfFig2) {
   EXPECT_EQ(scene.surfaces.size(), 5u + 6u * 6u);
   EXPECT_EQ(scene.markers.size(), 3u);
   for (size_t i = 0; i < scene.surfaces.size(); ++i) EXPECT_EQ(scene.surfaces[i].label, i + 1);
+}
+
+TEST(Scene, EveryShippedSceneLoadsWithABoxToGraspOnTheFloor) {
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(SourcePath("configs/scenes"))) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Scene scene = LoadScene(entry.path().string());
+    ++scenes;
+    EXPECT_FALSE(scene.surfaces.empty());
+    int boxes = 0;
+    for (const SceneObject& o : scene.objects) {
+      if (o.type != "box") continue;
+      ++boxes;
+      EXPECT_NEAR(o.Center().z(), o.dimensions.z() / 2.0, 1e-9);  // standing on the floor
+    }
+    EXPECT_GE(boxes, 1);
+  }
+  EXPECT_GE(scenes, 9);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio
 }
 
 TEST(Scene, SurfacesAreConsistentRectangles) {

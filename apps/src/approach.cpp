@@ -238,7 +238,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
         run.target = target_truth->name;
         run.reference = mission.ReferencePath();
         run.pregrasp_planned = mission.PreGraspTarget();
-      } else if (t - view_start >= (search.Viewpoints().empty() ? options.look_timeout : config.search.look_time)) {
+      } else if (t - view_start >=
+                 (search.Viewpoints().empty() ? options.look_timeout : config.search.look_time)) {
         std::string why;
         if (!search.Next(tracker.map(), *estimate, options.target, &why)) {
           run.status = {nav::MissionStatus::Outcome::kStopped,

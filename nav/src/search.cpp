@@ -29,8 +29,8 @@ bool LookedAt(const std::vector<Viewpoint>& viewpoints, const SearchCandidate& c
 
 }  // namespace
 
-std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot, const SearchConfig& config,
-                                              const std::string& target_label) {
+std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot,
+                                              const SearchConfig& config, const std::string& target_label) {
   std::vector<SearchCandidate> candidates;
   const int floor = map.Floor();
   const double max_vertical = std::sin(config.candidate_vertical_tolerance_deg * kDeg);
@@ -58,8 +58,9 @@ std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& 
     c.distance = (c.center - robot.Position()).norm();
     candidates.push_back(c);
   }
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const SearchCandidate& a, const SearchCandidate& b) { return a.distance < b.distance; });
+  std::stable_sort(
+      candidates.begin(), candidates.end(),
+      [](const SearchCandidate& a, const SearchCandidate& b) { return a.distance < b.distance; });
   return candidates;
 }
 
@@ -71,7 +72,8 @@ Search::Search(const SearchConfig& config, const MissionConfig& mission, const P
 
 Search::~Search() = default;
 
-bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label, std::string* reason) {
+bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label,
+                  std::string* reason) {
   if (static_cast<int>(viewpoints_.size()) >= config_.views_max) {
     *reason = "looked again from " + std::to_string(viewpoints_.size()) + " viewpoints (search.views_max)";
     return false;
@@ -89,7 +91,8 @@ bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string&
       const Eigen::Vector2d p = c.center + config_.view_distance * Eigen::Vector2d(std::cos(a), std::sin(a));
       poses.push_back({p.x(), p.y(), std::atan2(c.center.y() - p.y(), c.center.x() - p.x())});
     }
-    if ((poses[1].Position() - estimate.Position()).norm() < (poses[0].Position() - estimate.Position()).norm())
+    if ((poses[1].Position() - estimate.Position()).norm() <
+        (poses[0].Position() - estimate.Position()).norm())
       std::swap(poses[0], poses[1]);
     for (const Pose2& pose : poses) {
       const PlanResult plan = walk_.PlanTo(map, pose, estimate);
@@ -103,14 +106,18 @@ bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string&
   if (candidates.empty()) {
     *reason = "no face in the map could be the target's (search candidates)";
   } else if (fresh == 0) {
-    *reason = "every candidate face was looked at again (" + std::to_string(viewpoints_.size()) + " viewpoints)";
+    *reason =
+        "every candidate face was looked at again (" + std::to_string(viewpoints_.size()) + " viewpoints)";
   } else {
-    *reason = "no viewpoint of the " + std::to_string(fresh) + " candidate faces left can be walked to: " + last_failure;
+    *reason = "no viewpoint of the " + std::to_string(fresh) +
+              " candidate faces left can be walked to: " + last_failure;
   }
   return false;
 }
 
-void Search::Update(double time, const std::optional<Pose2>& estimate) { walk_.Update(time, estimate, nullptr); }
+void Search::Update(double time, const std::optional<Pose2>& estimate) {
+  walk_.Update(time, estimate, nullptr);
+}
 
 bool Search::Walking() const { return walk_.Status().outcome == MissionStatus::Outcome::kRunning; }
 

@@ -28,17 +28,17 @@
 namespace planemap::nav {
 
 struct SearchConfig {
-  int views_max = 3;                       // viewpoints walked to before giving up [-]
-  double view_distance = 0.7;              // viewpoint to the candidate face's centre [m]
-  double view_angle_deg = 40.0;            // viewpoint off the face's normal, either side [deg]
-  double look_time = 1.5;                  // standing at a viewpoint, looking, before the next [s]
+  int views_max = 3;             // viewpoints walked to before giving up [-]
+  double view_distance = 0.7;    // viewpoint to the candidate face's centre [m]
+  double view_angle_deg = 40.0;  // viewpoint off the face's normal, either side [deg]
+  double look_time = 1.5;        // standing at a viewpoint, looking, before the next [s]
   // A candidate face's top above the floor, at most: below the camera (0.52 m), so a face that
   // only ends at the image's top edge (a pillar, a wall near by) is not taken for one that ends [m].
   double candidate_max_height = 0.48;
-  double candidate_max_width = 0.60;       // its horizontal extent, at most [m]
-  int candidate_min_observations = 3;      // frames that saw it, at least [-]
+  double candidate_max_width = 0.60;               // its horizontal extent, at most [m]
+  int candidate_min_observations = 3;              // frames that saw it, at least [-]
   double candidate_vertical_tolerance_deg = 10.0;  // its normal this close to horizontal [deg]
-  double visited_radius = 0.40;            // a face this close to one looked at already is skipped [m]
+  double visited_radius = 0.40;  // a face this close to one looked at already is skipped [m]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -57,17 +57,17 @@ struct SearchConfig {
 // A face that may be the target's, seen too poorly to make an object of.
 struct SearchCandidate {
   int landmark = -1;
-  Eigen::Vector2d center = Eigen::Vector2d::Zero();  // its extent's centre on the floor (world) [m]
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();   // its extent's centre on the floor (world) [m]
   Eigen::Vector2d normal = Eigen::Vector2d::UnitX();  // unit, toward the cameras that saw it
   double distance = 0.0;                              // from the robot [m]
 };
 
 // The map's candidate faces for a target of class `target_label`, nearest to `robot` first.
-std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot, const SearchConfig& config,
-                                              const std::string& target_label);
+std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot,
+                                              const SearchConfig& config, const std::string& target_label);
 
 struct Viewpoint {
-  Pose2 pose;                      // where the robot stands, facing the face's centre (world)
+  Pose2 pose;  // where the robot stands, facing the face's centre (world)
   SearchCandidate candidate;
 };
 
