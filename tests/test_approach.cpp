@@ -4,6 +4,7 @@
 // (README). Frames at 15 Hz to keep the suite short.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -123,6 +124,26 @@ TEST(Approach, ABoxNotMappedFromTheStartIsLookedAtAgainThenApproached) {
   EXPECT_FALSE(r.collided) << r.collision;
   EXPECT_LT(r.position_error * 100.0, 3.0) << "cm";
   EXPECT_LT(r.heading_error * kRadToDeg, 5.0) << "deg";
+  EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
+}
+
+// Garage seed 9 (configs/scenes/garage.yaml): a far wall strip and a locker face, each mapped
+// once 4 deg off, agreed with a pose 13 cm off the truth; the tracker took it in one frame,
+// kept it for the whole object approach, and the robot walked into the box. Landmarks not yet
+// confirmed by 3 views weigh less in RANSAC, and with odometry a pose far from its prediction
+// needs more support.
+TEST(Approach, PlanesMappedOnceDoNotPullThePoseOff) {
+  ApproachOptions o = Options(3, 9);
+  o.scene = testing::SourcePath("configs/scenes/garage.yaml");
+  const ApproachRun r = RunApproachOnce(o);
+  Print("garage", r);
+  ASSERT_FALSE(r.pose_errors.empty());
+  const double worst = *std::max_element(r.pose_errors.begin(), r.pose_errors.end());
+  std::printf("  base position estimate over %zu frames: worst %.1f cm\n", r.pose_errors.size(), 100 * worst);
+  EXPECT_LT(worst * 100.0, 3.0) << "cm (was 14.6)";
+  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
+  EXPECT_FALSE(r.collided) << r.collision;
+  EXPECT_LT(r.position_error * 100.0, 3.0) << "cm (was 12.9)";
   EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
 }
 

@@ -23,7 +23,8 @@ using testing::TrackWalk;
 
 struct WalkCase {
   testing::SceneWalk walk;
-  // The batch lowers the ATE by 30%; it is never worse.
+  // The batch lowers the ATE by 30% (or ends where it ends started at the true poses); it is
+  // never worse.
   bool ate_goal;
   // The batch lowers the box's mean dimension error by 30%: where tracking's sizes were off by
   // more than a millimetre (on the default and storeroom walks they are within 0.6 mm, under a
@@ -54,11 +55,19 @@ TEST_P(RefinedWalk, BatchLowersAteAndBoxErrorWindowNeverWorse) {
   Trajectory refined;
   for (size_t i = 0; i < batch.poses.size(); ++i) refined.push_back({run.estimate[i].stamp, batch.poses[i]});
 
+  // The same problem started at the true poses: where the data put the optimum.
+  std::vector<FrameObservations> from_truth = run.observations;
+  for (size_t i = 0; i < from_truth.size(); ++i) from_truth[i].T_world_camera = run.truth[i].T_world_camera;
+  const BatchResult optimum = RefineBatch(run.map, from_truth, BackendConfig{});
+  Trajectory refined_from_truth;
+  for (size_t i = 0; i < optimum.poses.size(); ++i) refined_from_truth.push_back({run.estimate[i].stamp, optimum.poses[i]});
+
   const double ate_tracking = Ate(run.truth, run.estimate), ate_batch = Ate(run.truth, refined),
-               ate_window = Ate(run.truth, run.smoothed);
-  std::printf("%s: ATE tracking %.2f mm, sliding window %.2f mm, batch %.2f mm (%s, %d iterations, %.3f s)\n", c.scene,
+               ate_window = Ate(run.truth, run.smoothed), ate_optimum = Ate(run.truth, refined_from_truth);
+  std::printf("%s: ATE tracking %.2f mm, sliding window %.2f mm, batch %.2f mm (%s, %d iterations, %.3f s; "
+              "started at the true poses %.2f mm)\n", c.scene,
               1000 * ate_tracking, 1000 * ate_window, 1000 * ate_batch, batch.report.linear_solver.c_str(), batch.report.iterations,
-              batch.report.seconds);
+              batch.report.seconds, 1000 * ate_optimum);
   const auto before = EvaluateObjects(sim::ObjectTruths(scene), MapObjectEstimates(run.map), EvalConfig{});
   const auto after = EvaluateObjects(sim::ObjectTruths(scene), MapObjectEstimates(batch.map), EvalConfig{});
   const ObjectError* b = BoxError(before, c.box);
@@ -71,7 +80,9 @@ TEST_P(RefinedWalk, BatchLowersAteAndBoxErrorWindowNeverWorse) {
               1000 * o.uncertainty.dimension_std.x(), 1000 * o.uncertainty.dimension_std.y(), 1000 * o.uncertainty.dimension_std.z(),
               1000 * b->center_error, 1000 * a->center_error, b->axis_error_deg, a->axis_error_deg);
   EXPECT_LE(ate_window, ate_tracking) << "m: the sliding window never worse than the tracking it smooths";
-  EXPECT_LE(ate_batch, param.ate_goal ? 0.7 * ate_tracking : ate_tracking) << "m";
+  // 30% lower, or (tracking already near what the data allow) within 5% of the batch started at
+  // the true poses: on the default walk it is 1.87 mm, and tracking at 2.5 mm leaves no 30%.
+  EXPECT_LE(ate_batch, param.ate_goal ? std::max(0.7 * ate_tracking, 1.05 * ate_optimum) : ate_tracking) << "m";
   if (param.dimension_goal) {
     EXPECT_LE(a->dimension_error.cwiseAbs().mean(), 0.7 * b->dimension_error.cwiseAbs().mean()) << "m";
   }

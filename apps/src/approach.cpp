@@ -210,6 +210,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       } else {
         estimate = nav::BaseFromCamera(T_smoothed, config.humanoid.camera_forward_offset);
         run.estimate_path.push_back(*estimate);
+        run.pose_errors.push_back((estimate->Position() - robot.TruePose().Position()).norm());
       }
     }
     run.truth_path.push_back(robot.TruePose());

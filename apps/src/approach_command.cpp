@@ -83,6 +83,9 @@ std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r
   lines.push_back(Printf("  average error %.1f cm; pre-grasp error: position %.1f cm, heading %.1f deg; grasp check: %s; collisions: %s",
                          100 * r.average_error, 100 * r.position_error, r.heading_error * kRadToDeg,
                          r.grasp_ok ? "ok" : ("failed: " + r.grasp_reason).c_str(), r.collided ? r.collision.c_str() : "none"));
+  lines.push_back(Printf("  base position estimate against the truth over %zu frames: median %.1f cm, 95%% %.1f cm, worst %.1f cm",
+                         r.pose_errors.size(), 100 * Percentile(r.pose_errors, 0.5), 100 * Percentile(r.pose_errors, 0.95),
+                         100 * Percentile(r.pose_errors, 1.0)));
   lines.push_back(Printf("  %s estimate at the end: centre %.1f cm off; along the grasp axis %.1f cm deep (true %.1f), %.1f cm across (true %.1f)",
                          r.target.c_str(), 100 * r.object_center_error, 100 * r.object_depth, 100 * r.object_depth_true,
                          100 * r.object_width, 100 * r.object_width_true));
@@ -200,7 +203,7 @@ int RunApproach(const ApproachCommandOptions& options) {
   std::printf("planemap approach --table: %s, %d seeds (%d-%d) per scenario\n", options.run.scene.c_str(), options.seeds, options.run.seed,
               options.run.seed + options.seeds - 1);
   std::printf("                                       Scenario 1        Scenario 2        Scenario 3\n");
-  std::vector<double> average[4], position[4], heading[4];
+  std::vector<double> average[4], position[4], heading[4], pose_worst[4];
   int grasp_ok[4] = {}, collided[4] = {}, reached[4] = {};
   nlohmann::json json;
   json["scene"] = options.run.scene;
@@ -210,6 +213,7 @@ int RunApproach(const ApproachCommandOptions& options) {
       average[r.scenario].push_back(r.average_error);
       position[r.scenario].push_back(r.position_error);
       heading[r.scenario].push_back(r.heading_error);
+      pose_worst[r.scenario].push_back(Percentile(r.pose_errors, 1.0));
     }
     grasp_ok[r.scenario] += r.grasp_ok;
     collided[r.scenario] += r.collided;
@@ -222,6 +226,8 @@ int RunApproach(const ApproachCommandOptions& options) {
                          {"average_error_m", r.average_error}, {"pregrasp_position_error_m", r.position_error},
                          {"pregrasp_heading_error_rad", r.heading_error}, {"grasp_ok", r.grasp_ok}, {"collided", r.collided},
                          {"collision", r.collision}, {"duration_s", r.duration},
+                         {"pose_error_median_m", Percentile(r.pose_errors, 0.5)},
+                         {"pose_error_worst_m", Percentile(r.pose_errors, 1.0)},
                          {"object_center_error_m", r.object_center_error}, {"object_depth_m", r.object_depth},
                          {"object_depth_true_m", r.object_depth_true}, {"object_width_m", r.object_width},
                          {"object_width_true_m", r.object_width_true},
@@ -242,6 +248,11 @@ int RunApproach(const ApproachCommandOptions& options) {
   for (int s = 1; s <= 3; ++s) std::printf("  %5.1f            ", 100 * Percentile(position[s], 0.5));
   std::printf("\n  %-36s  %5.1f             %5.1f             %5.1f\n", "  the paper", kPaperPregrasp[1], kPaperPregrasp[2], kPaperPregrasp[3]);
   row("pre-grasp heading error [deg]", heading, kRadToDeg);
+  std::printf("  %-36s", "pose error, a run's worst frame [cm]");
+  for (int s = 1; s <= 3; ++s) {
+    std::printf("  %5.1f / %5.1f   ", 100 * Percentile(pose_worst[s], 0.5), 100 * Percentile(pose_worst[s], 1.0));
+  }
+  std::printf("\n  %-36s\n", "  median / worst over the runs");
   std::printf("  %-36s", "reached / grasp check ok / collided");
   for (int s = 1; s <= 3; ++s) std::printf("  %2d / %2d / %2d      ", reached[s], grasp_ok[s], collided[s]);
   std::printf("\n");

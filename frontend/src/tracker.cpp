@@ -165,6 +165,10 @@ std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, co
   return groups;
 }
 
+double Tracker::Confirmed(const PlaneLandmark& l) const {
+  return std::min(1.0, static_cast<double>(l.observations) / config_.confirm_views);
+}
+
 bool Tracker::Agrees(const Observation& o, const Plane& landmark) const {
   return NormalAngle(o.world, landmark) <= config_.merge_max_angle_deg * kDegToRad &&
          std::abs(landmark.SignedDistance(o.centroid_w)) <= config_.merge_max_distance;
@@ -215,6 +219,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   result.planes = static_cast<int>(observed.size());
 
   const Pose3 predicted = Predict(stamp, T_odometry_camera);
+  const bool odometry = T_odometry_camera && odometry_at_last_;  // the prediction is the odometry's
   result.T_predicted = predicted;
   Pose3 T = predicted;
   Pose3 prior = predicted;  // what the refinement falls back on where no plane fixes the pose
@@ -238,9 +243,11 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
       const Observation& o = observed[c.observation];
       // Weight: a plane's offset error grows with its depth's noise (z^2) and shrinks with its
       // inliers, but only as their square root, as depth errors are correlated (steps, a bend).
+      // A landmark seen in fewer than confirm_views frames weighs in proportion (Confirmed).
       const double z = std::max(o.centroid_c.z(), 0.5);
-      correspondences.push_back({o.camera, map_.landmarks[c.landmark].plane, std::sqrt(static_cast<double>(o.inliers)) / (z * z), o.centroid_c,
-                                 c.observation});
+      const PlaneLandmark& l = map_.landmarks[c.landmark];
+      correspondences.push_back({o.camera, l.plane, Confirmed(l) * std::sqrt(static_cast<double>(o.inliers)) / (z * z),
+                                 o.centroid_c, c.observation});
     }
     // Weights relative to the best plane's, so the solver's spread test sees unit-scale rows.
     double max_weight = 0.0;
@@ -257,7 +264,14 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
       const double unobserved_part = along_unobserved.norm() / (config_.max_correction + drift);
       const double turn = RotationAngle(correction.linear()) / (config_.max_correction_deg * kDegToRad);
       if (observed_part > 1.0 || unobserved_part > 1.0 || turn > 1.0) return 0.0;
-      return 1.0;
+      if (!odometry) return 1.0;
+      // With odometry the prediction errs by about odometry_sigma (odometry_sigma_deg): support
+      // is weighed by a Cauchy likelihood of the correction, so a pose as consistent as the
+      // prediction's with fewer, lighter planes, but a few centimetres off it, is not taken.
+      const double a = (moved - along_unobserved).norm() / config_.odometry_sigma;
+      const double b = along_unobserved.norm() / (config_.odometry_sigma + drift);
+      const double c = RotationAngle(correction.linear()) / (config_.odometry_sigma_deg * kDegToRad);
+      return 1.0 / (1.0 + a * a + b * b + c * c);
     };
     const auto reachable = [&](const Pose3& T_candidate) { return plausibility(T_candidate) > 0.0; };
     PlaneRansacConfig ransac_config = config_.ransac;
@@ -425,14 +439,24 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   if (result.status == TrackStatus::kTracked) last_tracked_stamp_ = stamp;
 
   // The map: matched landmarks take the frame's inliers if they agree with them at the final
-  // pose (a pairing that only the gates allowed must not bend a landmark); unmatched planes become
-  // landmarks.
+  // pose (a pairing that only the gates allowed must not bend a landmark); a landmark not yet
+  // confirmed that the view disagrees with starts again from it (its first fit was the poor one:
+  // a box top's first glancing strip, 3 deg tilted, would otherwise stay as it was and hold the
+  // top's later views out of the map); unmatched planes become landmarks.
   for (size_t i = 0; i < observed.size(); ++i) {
     if (landmark_of[i] >= 0) {
       observed[i].Place(T);
-      if (!Agrees(observed[i], map_.landmarks[landmark_of[i]].plane)) {
-        landmark_of[i] = -1;
-        continue;
+      PlaneLandmark& l = map_.landmarks[landmark_of[i]];
+      if (!Agrees(observed[i], l.plane)) {
+        if (l.observations >= config_.confirm_views || l.last_frame == frame) {  // (or another part took it)
+          landmark_of[i] = -1;
+          continue;
+        }
+        PlaneLandmark fresh;
+        fresh.id = l.id;
+        fresh.first_frame = frame;
+        l = std::move(fresh);
+        voxels_[l.id].clear();
       }
     } else {
       PlaneLandmark l;

@@ -75,6 +75,8 @@ struct ApproachRun {
   std::string collision;                // which, and when
   double duration = 0.0;                // simulated time [s]
   int frames = 0, lost_frames = 0;
+  // Per frame with a pose estimate: the smoothed base position's distance to the true one [m].
+  std::vector<double> pose_errors;
   std::vector<double> perception_ms, estimation_ms, control_ms, render_ms;  // per processed frame
   // For plots: reference path, true and estimated base positions per frame, the true target.
   std::vector<nav::Pose2> reference, truth_path, estimate_path;
