@@ -53,7 +53,7 @@ TEST(Scene, EveryShippedSceneLoadsWithABoxToGraspOnTheFloor) {
     }
     EXPECT_GE(boxes, 1);
   }
-  EXPECT_GE(scenes, 9);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio
+  EXPECT_GE(scenes, 11);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier
 }
 
 TEST(Scene, SurfacesAreConsistentRectangles) {
