@@ -404,6 +404,7 @@ PlaneMap SearchRoom(bool decided) {
   map.landmarks.push_back(Rectangle(3, {1.5, -1.0, 0.2}, kX, 0.15, kZ, 0.2));
   map.landmarks.push_back(Rectangle(4, {1.2, 1.0, 0.15}, kX, 0.15, kZ, 0.15));
   map.landmarks.push_back(Rectangle(5, {3.0, -1.5, 0.9}, kX, 0.25, kZ, 0.9));
+  map.landmarks.push_back(Rectangle(6, {2.0, 0.8, 0.215}, kY, 0.02, kZ, 0.215));  // a chair leg, 4 cm wide
   for (PlaneLandmark& l : map.landmarks) l.observations = 10;
   map.landmarks[4].observations = 1;
   MapObject chair = Box({1.5, -1.15, 0.2}, 0.0, {0.3, 0.3, 0.4});
@@ -417,7 +418,7 @@ PlaneMap SearchRoom(bool decided) {
 TEST(Search, CandidatesAreLowNarrowFacesNoMeasuredObjectExplains) {
   const SearchConfig config;
   std::vector<SearchCandidate> c = SearchCandidates(SearchRoom(true), Pose2{}, config, "box");
-  ASSERT_EQ(c.size(), 1u);  // not the floor, the wall, the chair's face, the face seen once, the door
+  ASSERT_EQ(c.size(), 1u);  // not the floor, the wall, the chair's face, the face seen once, the door, the leg
   EXPECT_EQ(c[0].landmark, 2);
   EXPECT_LT(100.0 * (c[0].center - Eigen::Vector2d(2.5, 0.3)).norm(), 1.0);
   EXPECT_LT(std::acos(c[0].normal.dot(-Eigen::Vector2d::UnitX())) / kDeg, 1.0);

@@ -1,6 +1,7 @@
 // The closed loop of `planemap approach`: render, perceive, estimate, control, walk.
 #include "planemap/apps/approach.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -79,11 +80,23 @@ std::vector<std::pair<std::string, nav::Footprint>> Footprints(const sim::Scene&
   return footprints;
 }
 
-// The mapped object of the target class seen most often; -1 if none.
-int FindTarget(const PlaneMap& map, const std::string& label) {
+// The mapped object of the target class seen most often that the arms could grasp from its
+// pre-grasp pose (as Mission::Plan checks it); -1 if none. `ungraspable`: how many of the class
+// could not be, and why the last could not.
+int FindTarget(const PlaneMap& map, const std::string& label, const nav::GraspConfig& grasp,
+               const nav::Pose2& robot, int* ungraspable, std::string* why) {
   int best = -1;
+  *ungraspable = 0;
   for (const MapObject& o : map.objects) {
-    if (o.label == label && (best < 0 || o.observations > map.objects[best].observations)) best = o.id;
+    if (o.label != label) continue;
+    const Eigen::Vector2d side = nav::ChooseGraspSide(o, grasp, robot.Position() - o.center.head<2>());
+    const nav::GraspCheck check = nav::CheckGrasp(o, nav::PreGraspPose(o, grasp, side), grasp);
+    if (!check.ok) {
+      ++*ungraspable;
+      *why = check.reason;
+      continue;
+    }
+    if (best < 0 || o.observations > map.objects[best].observations) best = o.id;
   }
   return best;
 }
@@ -95,6 +108,27 @@ const sim::SceneObject& NearestObject(const sim::Scene& scene, const Eigen::Vect
     if ((o.Center() - p).head<2>().norm() < (best->Center() - p).head<2>().norm()) best = &o;
   }
   return *best;
+}
+
+// The map with the latest frame's planes added as landmarks seen `observations` times, in the
+// world by the estimated camera pose: faces too far or too uncertain for the tracker to map (a
+// box 2.7 m away) are still faces the search may look at again.
+PlaneMap WithFacesInView(PlaneMap map, const FrameModel& model, const Cloud& cloud,
+                         const Pose3& T_world_camera, int observations) {
+  for (const DetectedPlane& p : model.planes) {
+    if (p.id == model.floor) continue;
+    PlaneLandmark l;
+    l.id = static_cast<int>(map.landmarks.size());
+    l.plane = TransformPlane(T_world_camera, p.plane);
+    l.observations = observations;
+    const size_t stride = std::max<size_t>(1, p.inliers.size() / 200);
+    for (size_t k = 0; k < p.inliers.size(); k += stride) {
+      const Eigen::Vector3d x = T_world_camera * cloud[p.inliers[k]].getVector3fMap().cast<double>();
+      l.points.push_back(x.cast<float>());
+    }
+    map.landmarks.push_back(std::move(l));
+  }
+  return map;
 }
 
 }  // namespace
@@ -148,6 +182,9 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   nav::Mission mission(static_cast<nav::Scenario>(options.scenario), config.mission, config.planner, config.grasp, &robot);
   nav::Search search(config.search, config.mission, config.planner, config.grasp, &robot);
   double view_start = 0.0;  // when the robot began standing at the start or at its last viewpoint [s]
+  FrameModel last_model;     // the last frame processed, and its cloud and camera pose estimate
+  Cloud::Ptr last_cloud;
+  Pose3 last_T_world_camera = Pose3::Identity();
 
   ApproachRun run;
   run.scenario = options.scenario;
@@ -190,7 +227,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       frame.stamp = t;
       const auto t1 = Clock::now();
       const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
-      const FrameModel model = frontend.Process(*cloud);
+      FrameModel model = frontend.Process(*cloud);
       const auto t2 = Clock::now();
       const nav::Pose2 odometry_pose = odometry.Correct(robot.OdometryPose());
       const TrackResult tracked =
@@ -201,6 +238,11 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
         measured = nav::BaseFromCamera(tracked.T_world_camera, config.humanoid.camera_forward_offset);
       odometry.Observe(measured);
       const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
+      if (!run.planned) {  // for the search (moved: the frame is done with it)
+        last_model = std::move(model);
+        last_cloud = cloud;
+        last_T_world_camera = T_smoothed;
+      }
       const auto t3 = Clock::now();
       run.render_ms.push_back(Ms(t0, t1));
       run.perception_ms.push_back(Ms(t1, t2));
@@ -227,7 +269,10 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
         view_start = t;
       }
     } else if (!run.planned && estimate && t - view_start >= options.look_time) {
-      target = FindTarget(tracker.map(), options.target);
+      int ungraspable = 0;
+      std::string ungraspable_why;
+      target = FindTarget(tracker.map(), options.target, config.grasp, *estimate, &ungraspable,
+                          &ungraspable_why);
       if (target >= 0) {
         const nav::PlanResult plan = mission.Plan(tracker.map(), target, *estimate);
         if (!plan.ok) {
@@ -242,9 +287,17 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       } else if (t - view_start >=
                  (search.Viewpoints().empty() ? options.look_timeout : config.search.look_time)) {
         std::string why;
-        if (!search.Next(tracker.map(), *estimate, options.target, &why)) {
+        const PlaneMap seen = last_cloud ? WithFacesInView(tracker.map(), last_model, *last_cloud,
+                                                            last_T_world_camera,
+                                                            config.search.candidate_min_observations)
+                                         : tracker.map();
+        if (!search.Next(seen, *estimate, options.target, &why)) {
+          const std::string none = ungraspable > 0 ? "no " + options.target + " the arms can grasp (" +
+                                                         std::to_string(ungraspable) + " mapped; " +
+                                                         ungraspable_why + ")"
+                                                   : "no " + options.target + " in the map";
           run.status = {nav::MissionStatus::Outcome::kStopped,
-                        "no " + options.target + " in the map after " + Seconds(t) + " of looking; " + why};
+                        none + " after " + Seconds(t) + " of looking; " + why};
           break;
         }
         run.viewpoints = search.Viewpoints();

@@ -50,7 +50,9 @@ std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& 
       mean += q;
     }
     mean /= static_cast<double>(l.points.size());
-    if (top > config.candidate_max_height || high - low > config.candidate_max_width) continue;
+    if (top > config.candidate_max_height || high - low > config.candidate_max_width ||
+        high - low < config.candidate_min_width)
+      continue;
     SearchCandidate c;
     c.landmark = l.id;
     c.center = mean + along * (0.5 * (low + high) - along.dot(mean));

@@ -7,10 +7,12 @@
 // the nearest candidate first, at most views_max viewpoints.
 //
 // A candidate face: vertical, at least candidate_min_observations frames, no taller (its top
-// above the floor) than candidate_max_height and no wider than candidate_max_width, and not a face
-// of an object classified as something other than the target or unknown with its height measured
-// (a locker's door is no box; two faces on the floor with their top unseen may be one). Walls,
-// furniture tops and the floor never are.
+// above the floor) than candidate_max_height, between candidate_min_width and candidate_max_width
+// wide, and not a face of an object classified as something other than the target or unknown
+// with its height measured (a locker's door is no box; two faces on the floor with their top
+// unseen may be one). Walls, furniture tops and the floor never are. The caller may add the
+// latest frame's planes as landmarks: a face too far or too uncertain for the tracker to map
+// (`planemap approach` does).
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -35,7 +37,8 @@ struct SearchConfig {
   // A candidate face's top above the floor, at most: below the camera (0.52 m), so a face that
   // only ends at the image's top edge (a pillar, a wall near by) is not taken for one that ends [m].
   double candidate_max_height = 0.48;
-  double candidate_max_width = 0.60;               // its horizontal extent, at most [m]
+  double candidate_max_width = 0.60;               // its horizontal extent, at most ... [m]
+  double candidate_min_width = 0.08;               // ... and at least: no chair leg [m]
   int candidate_min_observations = 3;              // frames that saw it, at least [-]
   double candidate_vertical_tolerance_deg = 10.0;  // its normal this close to horizontal [deg]
   double visited_radius = 0.40;  // a face this close to one looked at already is skipped [m]
@@ -48,6 +51,7 @@ struct SearchConfig {
     v("look_time", look_time, Check::kNonNegative);
     v("candidate_max_height", candidate_max_height, Check::kPositive);
     v("candidate_max_width", candidate_max_width, Check::kPositive);
+    v("candidate_min_width", candidate_min_width, Check::kNonNegative);
     v("candidate_min_observations", candidate_min_observations, Check::kNonNegative);
     v("candidate_vertical_tolerance_deg", candidate_vertical_tolerance_deg, Check::kNonNegative);
     v("visited_radius", visited_radius, Check::kNonNegative);
