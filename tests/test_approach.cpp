@@ -147,6 +147,25 @@ TEST(Approach, PlanesMappedOnceDoNotPullThePoseOff) {
   EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
 }
 
+// The hideout (configs/scenes/hideout.yaml, the tuning scene of the exploring search): a 1 m
+// shelf stands between the start and the box, so no face in view can be the box's. The robot
+// walks to where the floor behind the shelf comes into view, then looks again and approaches.
+TEST(Approach, ABoxHiddenBehindAShelfIsFoundByExploring) {
+  ApproachOptions o = Options(3, 1);
+  o.scene = testing::SourcePath("configs/scenes/hideout.yaml");
+  const ApproachRun r = RunApproachOnce(o);
+  Print("hideout", r);
+  ASSERT_FALSE(r.viewpoints.empty());
+  EXPECT_TRUE(r.viewpoints.front().Explores());
+  EXPECT_GE(r.viewpoints.front().unseen_area, 1.0) << "m^2";
+  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
+  EXPECT_EQ(r.target, "box");
+  EXPECT_FALSE(r.collided) << r.collision;
+  EXPECT_LT(r.position_error * 100.0, 3.0) << "cm";
+  EXPECT_LT(r.heading_error * kRadToDeg, 5.0) << "deg";
+  EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
+}
+
 TEST(Approach, BadOptionsAreNamed) {
   ApproachOptions o = Options(4, 1);
   EXPECT_THROW(RunApproachOnce(o), std::exception);

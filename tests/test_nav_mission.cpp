@@ -475,6 +475,73 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
   EXPECT_THROW(Search(bad, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot), std::invalid_argument);
 }
 
+// A room whose floor the map holds but for the shadow of a 1 m shelf 1.2 m ahead of the start:
+// the wedge behind it as seen from the origin.
+bool InShadow(const Eigen::Vector2d& p) { return p.x() > 1.3 && std::abs(p.y()) < 0.4 * p.x() / 1.2; }
+
+PlaneMap ShadowRoom() {
+  PlaneMap map;
+  PlaneLandmark floor = Rectangle(0, {2.0, 0.0, 0.0}, kX, 2.5, kY, 2.0);
+  floor.points.erase(std::remove_if(floor.points.begin(), floor.points.end(),
+                                    [](const Eigen::Vector3f& p) { return InShadow(p.head<2>().cast<double>()); }),
+                     floor.points.end());
+  floor.floor_votes = 1;
+  map.landmarks.push_back(floor);
+  map.landmarks.push_back(Rectangle(1, {1.2, 0.0, 0.5}, kY, 0.4, kZ, 0.5));  // the shelf's front
+  for (PlaneLandmark& l : map.landmarks) l.observations = 10;
+  return map;
+}
+
+TEST(Search, WithNoCandidateFaceItWalksToWhereTheUnseenFloorComesIntoView) {
+  const SearchConfig config;
+  const PlaneMap map = ShadowRoom();
+  double wedge = 0.0;  // the unseen area, on the explore grid's cells [m^2]
+  for (double x = -0.5; x < 4.5; x += config.explore_cell) {
+    for (double y = -2.0; y < 2.0; y += config.explore_cell) wedge += InShadow({x, y}) ? config.explore_cell * config.explore_cell : 0.0;
+  }
+  const std::vector<ExploreView> views = ExploreViews(map, Pose2{}, config, PlannerConfig{});
+  ASSERT_FALSE(views.empty());
+  const ExploreView& best = views.front();
+  std::printf("unseen floor %.2f m^2; best view at (%.2f, %.2f) m heading %.0f deg takes in %.2f m^2; %zu views\n", wedge,
+              best.pose.x, best.pose.y, best.pose.theta / kDeg, best.unseen_area, views.size());
+  EXPECT_GE(best.unseen_area, 1.0);            // m^2: it sees behind the shelf
+  EXPECT_LE(best.unseen_area, wedge + 1e-9);   // no more than there is
+  EXPECT_LE(best.pose.Position().norm(), config.explore_max_walk);
+  // Beside the shelf, not behind its front: the shadow's middle is in its field of view, in range.
+  const Eigen::Vector2d middle(2.8, 0.0), to = middle - best.pose.Position();
+  EXPECT_LT(std::abs(WrapAngle(std::atan2(to.y(), to.x()) - best.pose.theta)) / kDeg, config.explore_fov_deg / 2.0 + 15.0);
+  EXPECT_LT(to.norm(), config.explore_max_range);
+  EXPECT_GT(std::abs(best.pose.y), 0.4 + PlannerConfig{}.robot_radius);  // walked past the shelf's side
+
+  // Search::Next walks there when no face is a candidate; with the whole floor seen, nowhere.
+  FakeHumanoid robot({}, {}, 1);
+  Search search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+  std::string why;
+  ASSERT_TRUE(search.Next(map, Pose2{}, "box", &why)) << why;
+  ASSERT_EQ(search.Viewpoints().size(), 1u);
+  EXPECT_TRUE(search.Viewpoints()[0].Explores());
+  EXPECT_NEAR(search.Viewpoints()[0].unseen_area, best.unseen_area, 1e-9);
+  // A box face glimpsed in the shadow: its viewpoints (0.7 m off, 40 deg) stand on floor not seen
+  // yet, which the planner would take as free: the robot explores instead.
+  PlaneMap glimpsed = map;
+  glimpsed.landmarks.push_back(Rectangle(2, {2.5, 0.0, 0.13}, kY, 0.15, kZ, 0.13));
+  glimpsed.landmarks.back().observations = 10;
+  ASSERT_EQ(SearchCandidates(glimpsed, Pose2{}, config, "box").size(), 1u);
+  Search again(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+  ASSERT_TRUE(again.Next(glimpsed, Pose2{}, "box", &why)) << why;
+  EXPECT_TRUE(again.Viewpoints()[0].Explores());
+  PlaneMap seen = map;
+  seen.landmarks[0] = Rectangle(0, {2.0, 0.0, 0.0}, kX, 2.5, kY, 2.0);
+  seen.landmarks[0].floor_votes = 1;
+  EXPECT_TRUE(ExploreViews(seen, Pose2{}, config, PlannerConfig{}).empty());
+  EXPECT_FALSE(Search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(seen, Pose2{}, "box", &why));
+  EXPECT_NE(why.find("of floor not seen yet into view"), std::string::npos) << why;
+  SearchConfig faces_only = config;
+  faces_only.explore = false;
+  EXPECT_FALSE(Search(faces_only, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(map, Pose2{}, "box", &why));
+  EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
+}
+
 TEST(Mission, DistanceToPath) {
   const std::vector<Pose2> path{{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {1.0, 1.0, 0.0}};
   EXPECT_NEAR(DistanceToPath(path, {0.5, 0.2}), 0.2, 1e-12);

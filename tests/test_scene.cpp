@@ -53,7 +53,7 @@ TEST(Scene, EveryShippedSceneLoadsWithABoxToGraspOnTheFloor) {
     }
     EXPECT_GE(boxes, 1);
   }
-  EXPECT_GE(scenes, 11);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier
+  EXPECT_GE(scenes, 12);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier, hideout
 }
 
 TEST(Scene, SurfacesAreConsistentRectangles) {

@@ -61,6 +61,12 @@ std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r
   std::vector<std::string> lines;
   lines.push_back(Printf("planemap approach: %s, scenario %d (%s), seed %d", o.scene.c_str(), r.scenario, kScenarioNames[r.scenario], r.seed));
   for (const nav::Viewpoint& v : r.viewpoints) {
+    if (v.Explores()) {
+      lines.push_back(Printf("  no target mapped: explored from (%.2f, %.2f) m, heading %.0f deg, where %.1f m^2 of floor not "
+                             "seen yet came into view",
+                             v.pose.x, v.pose.y, v.pose.theta * kRadToDeg, v.unseen_area));
+      continue;
+    }
     lines.push_back(Printf("  no target mapped: looked again from (%.2f, %.2f) m, heading %.0f deg, at the face (landmark %d) "
                            "centred at (%.2f, %.2f) m",
                            v.pose.x, v.pose.y, v.pose.theta * kRadToDeg, v.candidate.landmark, v.candidate.center.x(),

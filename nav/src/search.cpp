@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace planemap::nav {
@@ -22,7 +23,19 @@ bool ExplainedByOtherClass(const PlaneMap& map, int landmark, const std::string&
 
 bool LookedAt(const std::vector<Viewpoint>& viewpoints, const SearchCandidate& c, double radius) {
   for (const Viewpoint& v : viewpoints) {
+    if (v.Explores()) continue;
     if (v.candidate.landmark == c.landmark || (v.candidate.center - c.center).norm() < radius) return true;
+  }
+  return false;
+}
+
+// Whether the map's floor has a point within `radius` of p: floor seen, not only inside the
+// floor's extent, which the planner takes as free (behind a shelf's front, say, is the shelf).
+bool OnSeenFloor(const PlaneMap& map, const Eigen::Vector2d& p, double radius) {
+  const int floor = map.Floor();
+  if (floor < 0) return false;
+  for (const Eigen::Vector3f& q : map.landmarks[floor].points) {
+    if ((q.head<2>().cast<double>() - p).squaredNorm() <= radius * radius) return true;
   }
   return false;
 }
@@ -66,9 +79,89 @@ std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& 
   return candidates;
 }
 
+std::vector<ExploreView> ExploreViews(const PlaneMap& map, const Pose2& robot, const SearchConfig& config,
+                                      const PlannerConfig& planner) {
+  const int floor = map.Floor();
+  if (floor < 0) return {};
+  const PlaneLandmark& f = map.landmarks[floor];
+  const OccupancyGrid grid = BuildOccupancyGrid(map, planner, {}, robot.Position());
+  if (grid.Empty() || !(f.low.head<2>().array() <= f.high.head<2>().array()).all()) return {};
+  // The floor's extent on cells of explore_cell: seen (a floor point in it), blocked (an obstacle
+  // or the extent's border within half a cell), else unseen.
+  const double cell = config.explore_cell;
+  const Eigen::Vector2d origin = f.low.head<2>();
+  const int nx = static_cast<int>(std::ceil((f.high.x() - f.low.x()) / cell)) + 1;
+  const int ny = static_cast<int>(std::ceil((f.high.y() - f.low.y()) / cell)) + 1;
+  if (static_cast<double>(nx) * ny > 4e6) return {};
+  enum : unsigned char { kUnseen, kSeen, kBlocked };
+  std::vector<unsigned char> state(static_cast<size_t>(nx) * ny, kUnseen);
+  const auto centre = [&](int i, int j) { return Eigen::Vector2d(origin + cell * Eigen::Vector2d(i + 0.5, j + 0.5)); };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      if (grid.Clearance(centre(i, j)) < 0.5 * cell) state[j * nx + i] = kBlocked;
+    }
+  }
+  for (const Eigen::Vector3f& p : f.points) {
+    const int i = static_cast<int>(std::floor((p.x() - origin.x()) / cell));
+    const int j = static_cast<int>(std::floor((p.y() - origin.y()) / cell));
+    if (i >= 0 && j >= 0 && i < nx && j < ny && state[j * nx + i] == kUnseen) state[j * nx + i] = kSeen;
+  }
+  // From each viewpoint (every other cell, where the robot may stand), rays every 3 deg; each
+  // unseen cell counts once, for the first ray that reaches it in range.
+  constexpr int kRays = 120;
+  const int fov_rays = std::max(1, static_cast<int>(std::lround(config.explore_fov_deg / (360.0 / kRays))));
+  const double area = cell * cell;
+  std::vector<int> stamp(state.size(), -1);
+  std::vector<ExploreView> views;
+  int viewpoint = 0;
+  for (int j = 0; j < ny; j += 2) {
+    for (int i = 0; i < nx; i += 2) {
+      const Eigen::Vector2d v = centre(i, j);
+      const double walk = (v - robot.Position()).norm();
+      // On seen floor only: the planner takes the floor's whole extent as free, but behind a
+      // shelf's front, say, is the shelf.
+      if (walk > config.explore_max_walk || state[j * nx + i] != kSeen || !grid.Free(v)) continue;
+      ++viewpoint;
+      std::vector<double> gain(kRays, 0.0);
+      for (int r = 0; r < kRays; ++r) {
+        const double a = 2.0 * M_PI * r / kRays;
+        const Eigen::Vector2d d(std::cos(a), std::sin(a));
+        for (double t = 0.5 * cell; t <= config.explore_max_range; t += 0.5 * cell) {
+          const Eigen::Vector2d q = v + t * d;
+          const int ci = static_cast<int>(std::floor((q.x() - origin.x()) / cell));
+          const int cj = static_cast<int>(std::floor((q.y() - origin.y()) / cell));
+          if (ci < 0 || cj < 0 || ci >= nx || cj >= ny) break;
+          const size_t k = static_cast<size_t>(cj) * nx + ci;
+          if (state[k] == kBlocked) break;  // the camera does not see past an obstacle
+          if (state[k] == kUnseen && t >= config.explore_min_range && stamp[k] != viewpoint) {
+            stamp[k] = viewpoint;
+            gain[r] += area;
+          }
+        }
+      }
+      // The heading whose field of view takes in the most.
+      double best = -1.0;
+      int best_ray = 0;
+      for (int r = 0; r < kRays; ++r) {
+        double sum = 0.0;
+        for (int k = -fov_rays / 2; k <= fov_rays / 2; ++k) sum += gain[(r + k + kRays) % kRays];
+        if (sum > best) best = sum, best_ray = r;
+      }
+      if (best < config.explore_min_area) continue;
+      views.push_back({Pose2{v.x(), v.y(), WrapAngle(2.0 * M_PI * best_ray / kRays)}, best});
+    }
+  }
+  const auto score = [&](const ExploreView& e) {
+    return e.unseen_area - config.explore_walk_cost * (e.pose.Position() - robot.Position()).norm();
+  };
+  std::stable_sort(views.begin(), views.end(),
+                   [&](const ExploreView& a, const ExploreView& b) { return score(a) > score(b); });
+  return views;
+}
+
 Search::Search(const SearchConfig& config, const MissionConfig& mission, const PlannerConfig& planner,
                const GraspConfig& grasp, Humanoid* robot)
-    : config_(config), walk_(Scenario::kPathFeedback, mission, planner, grasp, robot) {
+    : config_(config), planner_(planner), walk_(Scenario::kPathFeedback, mission, planner, grasp, robot) {
   ValidateConfig(config, "search.");
 }
 
@@ -97,6 +190,10 @@ bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string&
         (poses[0].Position() - estimate.Position()).norm())
       std::swap(poses[0], poses[1]);
     for (const Pose2& pose : poses) {
+      if (!OnSeenFloor(map, pose.Position(), config_.explore_cell)) {
+        last_failure = "the viewpoint stands on floor not seen yet";
+        continue;
+      }
       const PlanResult plan = walk_.PlanTo(map, pose, estimate);
       if (plan.ok) {
         viewpoints_.push_back({pose, c});
@@ -114,6 +211,25 @@ bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string&
     *reason = "no viewpoint of the " + std::to_string(fresh) +
               " candidate faces left can be walked to: " + last_failure;
   }
+  if (!config_.explore) return false;
+  // Exploring: the best view that can be walked to (the first few tried).
+  const std::vector<ExploreView> views = ExploreViews(map, estimate, config_, planner_);
+  for (size_t k = 0; k < std::min<size_t>(views.size(), 10); ++k) {
+    const PlanResult plan = walk_.PlanTo(map, views[k].pose, estimate);
+    if (plan.ok) {
+      Viewpoint v{views[k].pose, {}, views[k].unseen_area};
+      v.candidate.center = views[k].pose.Position();
+      viewpoints_.push_back(v);
+      return true;
+    }
+    last_failure = plan.reason;
+  }
+  char none[160];
+  std::snprintf(none, sizeof(none), "; no view within %.1f m brings %.1f m^2 of floor not seen yet into view (search.explore_*)",
+                config_.explore_max_walk, config_.explore_min_area);
+  *reason += views.empty() ? std::string(none)
+                           : "; none of the " + std::to_string(views.size()) +
+                                 " exploring views can be walked to: " + last_failure;
   return false;
 }
 

@@ -4,7 +4,9 @@
 // or seen square-on, shows one face and a glancing top. That face is still in the map, as a plane
 // landmark no object explains. The search walks to a viewpoint view_distance from such a face
 // and view_angle_deg off its normal, where two sides and the top show, stands and looks again;
-// the nearest candidate first, at most views_max viewpoints.
+// the nearest candidate first, at most views_max viewpoints. A viewpoint stands on floor the map
+// has seen (a floor point within explore_cell): the planner takes the floor's whole extent as
+// free, and behind a shelf's front, say, is the shelf.
 //
 // A candidate face: vertical, at least candidate_min_observations frames, no taller (its top
 // above the floor) than candidate_max_height, between candidate_min_width and candidate_max_width
@@ -13,6 +15,15 @@
 // unseen may be one). Walls, furniture tops and the floor never are. The caller may add the
 // latest frame's planes as landmarks: a face too far or too uncertain for the tracker to map
 // (`planemap approach` does).
+//
+// Exploring, when no candidate face is left (a box hidden behind a shelf, or out of view): the
+// next-best view over the floor the map holds. The floor's extent, on a grid of explore_cell, is
+// seen where the floor landmark has points, blocked where the planner's grid keeps the robot off,
+// unseen elsewhere. From viewpoints on seen floor within explore_max_walk, rays every 3 deg
+// through unblocked cells find the unseen cells the camera's field of view would take in between
+// explore_min_range and explore_max_range; the view whose heading takes in the most, less
+// explore_walk_cost per metre walked, is walked to, if it brings explore_min_area or more into
+// view.
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -42,6 +53,14 @@ struct SearchConfig {
   int candidate_min_observations = 3;              // frames that saw it, at least [-]
   double candidate_vertical_tolerance_deg = 10.0;  // its normal this close to horizontal [deg]
   double visited_radius = 0.40;  // a face this close to one looked at already is skipped [m]
+  bool explore = true;           // with no candidate face left, look where the floor is unseen
+  double explore_cell = 0.10;       // grid cell of seen and unseen floor [m]
+  double explore_fov_deg = 58.0;    // the camera's horizontal field of view (Xtion: 58) [deg]
+  double explore_min_range = 0.6;   // floor nearer is below the pitched camera's view [m]
+  double explore_max_range = 3.0;   // floor farther is too far to map a box on (see the corridor) [m]
+  double explore_max_walk = 3.0;    // viewpoints within this of the robot [m]
+  double explore_min_area = 0.3;    // a view bringing less unseen floor into view is not walked to [m^2]
+  double explore_walk_cost = 0.5;   // unseen floor a metre of walking must bring into view [m^2/m]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -55,6 +74,14 @@ struct SearchConfig {
     v("candidate_min_observations", candidate_min_observations, Check::kNonNegative);
     v("candidate_vertical_tolerance_deg", candidate_vertical_tolerance_deg, Check::kNonNegative);
     v("visited_radius", visited_radius, Check::kNonNegative);
+    v("explore", explore);
+    v("explore_cell", explore_cell, Check::kPositive);
+    v("explore_fov_deg", explore_fov_deg, Check::kPositive);
+    v("explore_min_range", explore_min_range, Check::kNonNegative);
+    v("explore_max_range", explore_max_range, Check::kPositive);
+    v("explore_max_walk", explore_max_walk, Check::kPositive);
+    v("explore_min_area", explore_min_area, Check::kNonNegative);
+    v("explore_walk_cost", explore_walk_cost, Check::kNonNegative);
   }
 };
 
@@ -70,9 +97,22 @@ struct SearchCandidate {
 std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot,
                                               const SearchConfig& config, const std::string& target_label);
 
+// A view to explore from: where to stand and look, and how much floor not seen yet it takes in.
+struct ExploreView {
+  Pose2 pose;
+  double unseen_area = 0.0;  // [m^2]
+};
+
+// The views worth walking to (bringing explore_min_area or more into view), best first; none
+// when the map has no floor. `planner` sets where the robot may stand and what blocks a ray.
+std::vector<ExploreView> ExploreViews(const PlaneMap& map, const Pose2& robot, const SearchConfig& config,
+                                      const PlannerConfig& planner);
+
 struct Viewpoint {
   Pose2 pose;  // where the robot stands, facing the face's centre (world)
-  SearchCandidate candidate;
+  SearchCandidate candidate;  // landmark -1: an exploring view
+  double unseen_area = 0.0;   // exploring: the floor not seen yet it was chosen for [m^2]
+  bool Explores() const { return candidate.landmark < 0; }
 };
 
 class Search {
@@ -83,7 +123,8 @@ class Search {
   ~Search();
 
   // Plans the walk to the next viewpoint: the nearest candidate not looked at yet, from whichever
-  // side is free and nearer. False, with the reason, when none is left or views_max are used.
+  // side is free and nearer; with none left, the best exploring view (config.explore). False,
+  // with the reason, when none is left or views_max are used.
   bool Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label, std::string* reason);
   // Every camera frame while Walking(): drives the walk with path feedback.
   void Update(double time, const std::optional<Pose2>& estimate);
@@ -95,6 +136,7 @@ class Search {
 
  private:
   SearchConfig config_;
+  PlannerConfig planner_;
   Mission walk_;
   std::vector<Viewpoint> viewpoints_;
 };
