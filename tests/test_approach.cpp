@@ -37,6 +37,26 @@ void Print(const char* what, const ApproachRun& r) {
               r.collided ? r.collision.c_str() : "none");
 }
 
+// Scenario 3 with `seed` in configs/scenes/<name>.yaml, printed.
+ApproachRun RunInScene(const std::string& name, int seed) {
+  ApproachOptions o = Options(3, seed);
+  o.scene = testing::SourcePath("configs/scenes/" + name + ".yaml");
+  const ApproachRun r = RunApproachOnce(o);
+  Print(name.c_str(), r);
+  return r;
+}
+
+// Reached the pre-grasp pose of the scene's box within 3 cm and 5 deg, the grasp check passing,
+// no collision.
+void ExpectAtThePreGraspPose(const ApproachRun& r) {
+  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
+  EXPECT_EQ(r.target, "box");
+  EXPECT_FALSE(r.collided) << r.collision;
+  EXPECT_LT(r.position_error * 100.0, 3.0) << "cm";
+  EXPECT_LT(r.heading_error * kRadToDeg, 5.0) << "deg";
+  EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
+}
+
 TEST(Approach, FeedbackBeatsOpenLoopAndScenarioThreeEndsAtThePreGraspPose) {
   const ApproachRun open = RunApproachOnce(Options(1, 3));
   const ApproachRun path = RunApproachOnce(Options(2, 3));
@@ -109,22 +129,14 @@ TEST(Approach, ScenarioThreeEndsAtThePreGraspPoseInRoomsAddedAfterTuning) {
 // The corridor's box stands 3 m ahead, nearly square-on: from the start it shows one face and a
 // glancing top, never three faces. The robot looks again from a viewpoint off that face.
 TEST(Approach, ABoxNotMappedFromTheStartIsLookedAtAgainThenApproached) {
-  ApproachOptions o = Options(3, 1);
-  o.scene = testing::SourcePath("configs/scenes/corridor.yaml");
-  const ApproachRun r = RunApproachOnce(o);
-  Print("corridor", r);
+  const ApproachRun r = RunInScene("corridor", 1);
   ASSERT_FALSE(r.viewpoints.empty());
   for (const nav::Viewpoint& v : r.viewpoints) {
     std::printf("  viewpoint (%.2f, %.2f) m, %.2f m from the face at (%.2f, %.2f) m\n", v.pose.x, v.pose.y,
                 (v.pose.Position() - v.candidate.center).norm(), v.candidate.center.x(),
                 v.candidate.center.y());
   }
-  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
-  EXPECT_EQ(r.target, "box");
-  EXPECT_FALSE(r.collided) << r.collision;
-  EXPECT_LT(r.position_error * 100.0, 3.0) << "cm";
-  EXPECT_LT(r.heading_error * kRadToDeg, 5.0) << "deg";
-  EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
+  ExpectAtThePreGraspPose(r);
 }
 
 // Garage seed 9 (configs/scenes/garage.yaml): a far wall strip and a locker face, each mapped
@@ -133,37 +145,23 @@ TEST(Approach, ABoxNotMappedFromTheStartIsLookedAtAgainThenApproached) {
 // confirmed by 3 views weigh less in RANSAC, and with odometry a pose far from its prediction
 // needs more support.
 TEST(Approach, PlanesMappedOnceDoNotPullThePoseOff) {
-  ApproachOptions o = Options(3, 9);
-  o.scene = testing::SourcePath("configs/scenes/garage.yaml");
-  const ApproachRun r = RunApproachOnce(o);
-  Print("garage", r);
+  const ApproachRun r = RunInScene("garage", 9);
   ASSERT_FALSE(r.pose_errors.empty());
   const double worst = *std::max_element(r.pose_errors.begin(), r.pose_errors.end());
   std::printf("  base position estimate over %zu frames: worst %.1f cm\n", r.pose_errors.size(), 100 * worst);
   EXPECT_LT(worst * 100.0, 3.0) << "cm (was 14.6)";
-  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
-  EXPECT_FALSE(r.collided) << r.collision;
-  EXPECT_LT(r.position_error * 100.0, 3.0) << "cm (was 12.9)";
-  EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
+  ExpectAtThePreGraspPose(r);  // (was 12.9 cm off, in the box)
 }
 
 // The hideout (configs/scenes/hideout.yaml, the tuning scene of the exploring search): a 1 m
 // shelf stands between the start and the box, so no face in view can be the box's. The robot
 // walks to where the floor behind the shelf comes into view, then looks again and approaches.
 TEST(Approach, ABoxHiddenBehindAShelfIsFoundByExploring) {
-  ApproachOptions o = Options(3, 1);
-  o.scene = testing::SourcePath("configs/scenes/hideout.yaml");
-  const ApproachRun r = RunApproachOnce(o);
-  Print("hideout", r);
+  const ApproachRun r = RunInScene("hideout", 1);
   ASSERT_FALSE(r.viewpoints.empty());
   EXPECT_TRUE(r.viewpoints.front().Explores());
   EXPECT_GE(r.viewpoints.front().unseen_area, 1.0) << "m^2";
-  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
-  EXPECT_EQ(r.target, "box");
-  EXPECT_FALSE(r.collided) << r.collision;
-  EXPECT_LT(r.position_error * 100.0, 3.0) << "cm";
-  EXPECT_LT(r.heading_error * kRadToDeg, 5.0) << "deg";
-  EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
+  ExpectAtThePreGraspPose(r);
 }
 
 TEST(Approach, BadOptionsAreNamed) {
