@@ -473,6 +473,26 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
   SearchConfig bad;
   bad.view_distance = 0.0;
   EXPECT_THROW(Search(bad, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot), std::invalid_argument);
+  // Settings that are each valid but contradict one another are named too.
+  auto message = [&robot](const SearchConfig& c) {
+    try {
+      Search(c, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  SearchConfig ranges;
+  ranges.explore_min_range = 3.5;  // beyond explore_max_range (3.0)
+  EXPECT_NE(message(ranges).find("search.explore_min_range (3.5) must be below search.explore_max_range (3)"),
+            std::string::npos)
+      << message(ranges);
+  SearchConfig widths;
+  widths.candidate_min_width = 0.7;  // beyond candidate_max_width (0.6)
+  EXPECT_NE(message(widths).find("search.candidate_min_width"), std::string::npos) << message(widths);
+  SearchConfig fov;
+  fov.explore_fov_deg = 270.0;
+  EXPECT_NE(message(fov).find("search.explore_fov_deg"), std::string::npos) << message(fov);
 }
 
 // A room whose floor the map holds but for the shadow of a 1 m shelf 1.2 m ahead of the start:

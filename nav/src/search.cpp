@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace planemap::nav {
 namespace {
@@ -163,6 +165,17 @@ Search::Search(const SearchConfig& config, const MissionConfig& mission, const P
                const GraspConfig& grasp, Humanoid* robot)
     : config_(config), planner_(planner), walk_(Scenario::kPathFeedback, mission, planner, grasp, robot) {
   ValidateConfig(config, "search.");
+  auto below = [](double low, double high, const char* low_name, const char* high_name) {
+    if (low < high) return;
+    char what[200];
+    std::snprintf(what, sizeof(what), "search.%s (%g) must be below search.%s (%g)", low_name, low, high_name, high);
+    throw std::invalid_argument(what);
+  };
+  below(config.candidate_min_width, config.candidate_max_width, "candidate_min_width", "candidate_max_width");
+  below(config.explore_min_range, config.explore_max_range, "explore_min_range", "explore_max_range");
+  if (config.explore_fov_deg > 180.0)
+    throw std::invalid_argument("search.explore_fov_deg (" + std::to_string(config.explore_fov_deg) +
+                                ") must be at most 180 deg");
 }
 
 Search::~Search() = default;
