@@ -173,9 +173,11 @@ Search::Search(const SearchConfig& config, const MissionConfig& mission, const P
   };
   below(config.candidate_min_width, config.candidate_max_width, "candidate_min_width", "candidate_max_width");
   below(config.explore_min_range, config.explore_max_range, "explore_min_range", "explore_max_range");
-  if (config.explore_fov_deg > 180.0)
-    throw std::invalid_argument("search.explore_fov_deg (" + std::to_string(config.explore_fov_deg) +
-                                ") must be at most 180 deg");
+  if (config.explore_fov_deg > 180.0) {
+    char what[120];
+    std::snprintf(what, sizeof(what), "search.explore_fov_deg (%g) must be at most 180 deg", config.explore_fov_deg);
+    throw std::invalid_argument(what);
+  }
 }
 
 Search::~Search() = default;
