@@ -164,6 +164,18 @@ TEST(Approach, ABoxHiddenBehindAShelfIsFoundByExploring) {
   ExpectAtThePreGraspPose(r);
 }
 
+// The atelier (configs/scenes/atelier.yaml, measured once as an unseen room in which every run
+// waited 240 s for a pose; since then a tuning scene): the robot starts 0.6 m in front of a 1 m
+// shelf that fills its view, so the map holds one plane and no floor, no face to look at and no
+// floor to explore. It turns on the spot, maps the floor, explores round the shelf and approaches.
+TEST(Approach, ARobotFacingATallShelfTurnsOnTheSpotThenFindsTheBox) {
+  const ApproachRun r = RunInScene("atelier", 1);
+  ASSERT_FALSE(r.viewpoints.empty());
+  EXPECT_TRUE(r.viewpoints.front().turn);
+  EXPECT_EQ(r.lost_frames, 0);
+  ExpectAtThePreGraspPose(r);
+}
+
 TEST(Approach, BadOptionsAreNamed) {
   ApproachOptions o = Options(4, 1);
   EXPECT_THROW(RunApproachOnce(o), std::exception);

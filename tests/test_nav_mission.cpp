@@ -435,7 +435,8 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const PlaneMap map = SearchRoom(true);
     FakeHumanoid robot({}, Drifting(seed), seed);
-    const SearchConfig config;
+    SearchConfig config;
+    config.turns_max = 0;  // with no view left it would turn on the spot (WithNoViewToWalkToItTurnsOnTheSpot)
     Search search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
     std::string why;
     ASSERT_TRUE(search.Next(map, Pose2{}, "box", &why)) << why;
@@ -467,7 +468,9 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
   PlaneMap bare = SearchRoom(true);  // floor and wall only
   bare.landmarks.resize(2);
   bare.objects.clear();
-  EXPECT_FALSE(Search(SearchConfig{}, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot)
+  SearchConfig no_turns;
+  no_turns.turns_max = 0;
+  EXPECT_FALSE(Search(no_turns, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot)
                    .Next(bare, Pose2{}, "box", &why));
   EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
   SearchConfig bad;
@@ -554,12 +557,56 @@ TEST(Search, WithNoCandidateFaceItWalksToWhereTheUnseenFloorComesIntoView) {
   seen.landmarks[0] = Rectangle(0, {2.0, 0.0, 0.0}, kX, 2.5, kY, 2.0);
   seen.landmarks[0].floor_votes = 1;
   EXPECT_TRUE(ExploreViews(seen, Pose2{}, config, PlannerConfig{}).empty());
-  EXPECT_FALSE(Search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(seen, Pose2{}, "box", &why));
+  SearchConfig no_turns = config;
+  no_turns.turns_max = 0;
+  EXPECT_FALSE(Search(no_turns, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(seen, Pose2{}, "box", &why));
   EXPECT_NE(why.find("of floor not seen yet into view"), std::string::npos) << why;
-  SearchConfig faces_only = config;
+  SearchConfig faces_only = no_turns;
   faces_only.explore = false;
   EXPECT_FALSE(Search(faces_only, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(map, Pose2{}, "box", &why));
   EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
+}
+
+// A robot 0.6 m in front of a 1 m shelf 0.8 m wide (the atelier's start): the shelf's front fills
+// the view, the map holds no floor, so there is no face to look at and nowhere to explore. It
+// turns on the spot, turn_step_deg at a time, without walking, until turns_max.
+TEST(Search, WithNoViewToWalkToItTurnsOnTheSpot) {
+  PlaneMap map;
+  map.landmarks.push_back(Rectangle(0, {0.61, 0.0, 0.5}, kY, 0.4, kZ, 0.5));
+  map.landmarks[0].observations = 10;
+  const SearchConfig config;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    FakeHumanoid robot({}, Drifting(seed), seed);
+    Search search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+    std::string why;
+    double time = 0.0, commanded = 0.0;
+    for (int turn = 1; turn <= config.turns_max; ++turn) {
+      ASSERT_TRUE(search.Next(map, robot.TruePose(), "box", &why)) << why;
+      ASSERT_EQ(search.Viewpoints().size(), static_cast<size_t>(turn));
+      const Viewpoint& v = search.Viewpoints().back();
+      EXPECT_TRUE(v.turn);
+      EXPECT_FALSE(v.Explores());
+      commanded += config.turn_step_deg;
+      EXPECT_TRUE(search.Walking());
+      for (int frame = 0; frame < 20 * kRate && search.Walking(); ++frame, time += 1.0 / kRate) {
+        search.Update(time, robot.TruePose());
+        robot.Advance(1.0 / kRate);
+      }
+      ASSERT_FALSE(search.Walking());
+      ASSERT_TRUE(search.Status().Reached()) << search.Status().reason;
+      // Turned on the spot: heading within the gait's error (noise_turn 2%) of the command.
+      EXPECT_LT(std::abs(WrapAngle(robot.TruePose().theta - commanded * kDeg)) / kDeg, 0.05 * commanded) << turn;
+      EXPECT_LT(100.0 * robot.TruePose().Position().norm(), 1.0);  // cm: no walk
+    }
+    EXPECT_FALSE(search.Next(map, robot.TruePose(), "box", &why));
+    EXPECT_NE(why.find("turned on the spot 7 times (search.turns_max)"), std::string::npos) << why;
+    EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
+  }
+  SearchConfig bad;
+  bad.turn_step_deg = 0.0;
+  FakeHumanoid robot({}, {}, 1);
+  EXPECT_THROW(Search(bad, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot), std::invalid_argument);
 }
 
 TEST(Mission, DistanceToPath) {

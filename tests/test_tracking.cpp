@@ -225,6 +225,40 @@ TEST(Tracking, WhereNoPlaneFixesThePoseItFollowsTheOdometry) {
   EXPECT_LT(error[1], 0.02) << "m: 5% of 30 cm";
 }
 
+// The atelier's start: a 1 m shelf 0.6 m ahead fills the view, one plane, which leaves the
+// rotation about its normal unmeasured. Without odometry the pose is lost after lost_after frames;
+// with the walking engine's odometry the heading errs only as the robot moves, so a robot standing
+// there keeps its pose (it may turn to look around), and it is lost once the odometry walked
+// lost_after_distance (here an odometry that drifts 5 mm a frame sideways while the robot stands).
+TEST(Tracking, FacingOnePlaneWithOdometryThePoseIsLostByMotionNotByFrames) {
+  const RenderedViews views("configs/scenes/atelier.yaml", 1);
+  const Pose3 T_world_camera = nav::NominalCameraPose(nav::Pose2{}, nav::HumanoidConfig{});
+  const TrackingConfig config;
+  const int frames = 3 * config.lost_after;
+  int first_lost[3] = {-1, -1, -1};
+  double error = 0.0;
+  for (int run = 0; run < 3; ++run) {  // 0: no odometry, 1: standing odometry, 2: drifting odometry
+    Tracker tracker(config, T_world_camera);
+    for (int k = 0; k < frames; ++k) {
+      std::optional<Pose3> odometry;
+      if (run == 1) odometry = T_world_camera;
+      if (run == 2) odometry = Pose3(Eigen::Translation3d(0.0, 0.005 * k, 0.0)) * T_world_camera;
+      const TrackResult r = views.Track(tracker, T_world_camera, k, k / 15.0, odometry);
+      if (r.status == TrackStatus::kLost && first_lost[run] < 0) first_lost[run] = k;
+      if (run == 1) error = std::max(error, (r.T_world_camera.translation() - T_world_camera.translation()).norm());
+      if (k == 0) EXPECT_EQ(r.planes, 1) << "the shelf's front only";
+    }
+  }
+  std::printf("facing the atelier's shelf %d frames: first lost frame without odometry %d, standing with odometry %d "
+              "(largest position error %.2f cm), odometry drifting 5 mm a frame %d\n",
+              frames, first_lost[0], first_lost[1], 100.0 * error, first_lost[2]);
+  EXPECT_EQ(first_lost[0], config.lost_after + 1);
+  EXPECT_EQ(first_lost[1], -1);
+  EXPECT_LT(error, 0.01) << "m";
+  // Lost once the odometry walked more than lost_after_distance (0.30 m: frame 61 at 5 mm a frame).
+  EXPECT_NEAR(first_lost[2], config.lost_after_distance / 0.005 + 1, 1.0);
+}
+
 // Where the hall's scenario 3 runs end: the box's pre-grasp pose as planned [m, rad].
 const nav::Pose2 kHallPreGrasp{1.745, 0.226, 64.9 * M_PI / 180.0};
 

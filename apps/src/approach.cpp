@@ -80,15 +80,21 @@ std::vector<std::pair<std::string, nav::Footprint>> Footprints(const sim::Scene&
   return footprints;
 }
 
-// The mapped object of the target class seen most often that the arms could grasp from its
-// pre-grasp pose (as Mission::Plan checks it); -1 if none. `ungraspable`: how many of the class
-// could not be, and why the last could not.
-int FindTarget(const PlaneMap& map, const std::string& label, const nav::GraspConfig& grasp,
-               const nav::Pose2& robot, int* ungraspable, std::string* why) {
-  int best = -1;
-  *ungraspable = 0;
+// The mapped objects of the target class seen in min_observations frames or more that the arms
+// could grasp from their pre-grasp pose (as Mission::Plan checks it), the most seen first.
+// `ungraspable`: how many of the class could not be, and why the last could not; `unconfirmed`:
+// how many were seen in fewer frames (one view of a wall 5 m away can make a "box").
+std::vector<int> FindTargets(const PlaneMap& map, const std::string& label, const nav::GraspConfig& grasp,
+                             int min_observations, const nav::Pose2& robot, int* ungraspable, int* unconfirmed,
+                             std::string* why) {
+  std::vector<int> targets;
+  *ungraspable = *unconfirmed = 0;
   for (const MapObject& o : map.objects) {
     if (o.label != label) continue;
+    if (o.observations < min_observations) {
+      ++*unconfirmed;
+      continue;
+    }
     const Eigen::Vector2d side = nav::ChooseGraspSide(o, grasp, robot.Position() - o.center.head<2>());
     const nav::GraspCheck check = nav::CheckGrasp(o, nav::PreGraspPose(o, grasp, side), grasp);
     if (!check.ok) {
@@ -96,9 +102,11 @@ int FindTarget(const PlaneMap& map, const std::string& label, const nav::GraspCo
       *why = check.reason;
       continue;
     }
-    if (best < 0 || o.observations > map.objects[best].observations) best = o.id;
+    targets.push_back(o.id);
   }
-  return best;
+  std::stable_sort(targets.begin(), targets.end(),
+                   [&](int a, int b) { return map.objects[a].observations > map.objects[b].observations; });
+  return targets;
 }
 
 // The scene object whose centre is nearest (on the floor) to a point.
@@ -194,6 +202,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   sim::Scene moved_scene;
   bool moved = false;
   int target = -1;
+  double last_estimate_time = 0.0;  // the last frame with a pose estimate (the start pose is known) [s]
+  std::string track_reason;         // why the last frame without one had none
   const double dt = 1.0 / options.rate;
   for (int k = 0;; ++k) {
     const double t = k * dt;
@@ -215,6 +225,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
     ++run.frames;
     if (dropped) {
       ++run.lost_frames;
+      track_reason = "lost: the frame dropped out";
       odometry.Correct(robot.OdometryPose());
       odometry.Observe(std::nullopt);
     } else {
@@ -249,7 +260,9 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       run.estimation_ms.push_back(Ms(t2, t3));
       if (tracked.status == TrackStatus::kLost) {
         ++run.lost_frames;
+        track_reason = "lost: " + tracked.reason;
       } else {
+        last_estimate_time = t;
         estimate = nav::BaseFromCamera(T_smoothed, config.humanoid.camera_forward_offset);
         run.estimate_path.push_back(*estimate);
         run.pose_errors.push_back((estimate->Position() - robot.TruePose().Position()).norm());
@@ -269,16 +282,21 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
         view_start = t;
       }
     } else if (!run.planned && estimate && t - view_start >= options.look_time) {
-      int ungraspable = 0;
-      std::string ungraspable_why;
-      target = FindTarget(tracker.map(), options.target, config.grasp, *estimate, &ungraspable,
-                          &ungraspable_why);
-      if (target >= 0) {
-        const nav::PlanResult plan = mission.Plan(tracker.map(), target, *estimate);
-        if (!plan.ok) {
-          run.status = {nav::MissionStatus::Outcome::kStopped, "no plan: " + plan.reason};
+      int ungraspable = 0, unconfirmed = 0;
+      std::string ungraspable_why, plan_failure;
+      target = -1;
+      // The most seen target a plan reaches; one whose plan fails is passed over.
+      for (int candidate : FindTargets(tracker.map(), options.target, config.grasp,
+                                       config.search.target_min_observations, *estimate, &ungraspable,
+                                       &unconfirmed, &ungraspable_why)) {
+        const nav::PlanResult plan = mission.Plan(tracker.map(), candidate, *estimate);
+        if (plan.ok) {
+          target = candidate;
           break;
         }
+        if (plan_failure.empty()) plan_failure = "object " + std::to_string(candidate) + ": " + plan.reason;
+      }
+      if (target >= 0) {
         run.planned = true;
         target_truth = &NearestObject(scene, tracker.map().objects[target].center);
         run.target = target_truth->name;
@@ -292,16 +310,24 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
                                                             config.search.candidate_min_observations)
                                          : tracker.map();
         if (!search.Next(seen, *estimate, options.target, &why)) {
-          const std::string none = ungraspable > 0 ? "no " + options.target + " the arms can grasp (" +
-                                                         std::to_string(ungraspable) + " mapped; " +
-                                                         ungraspable_why + ")"
-                                                   : "no " + options.target + " in the map";
+          std::string none = ungraspable > 0 ? "no " + options.target + " the arms can grasp (" +
+                                                   std::to_string(ungraspable) + " mapped; " + ungraspable_why + ")"
+                                             : "no " + options.target + " in the map";
+          if (!plan_failure.empty()) none = "no " + options.target + " a plan reaches (" + plan_failure + ")";
+          if (unconfirmed > 0)
+            none += " (" + std::to_string(unconfirmed) + " seen in fewer than search.target_min_observations frames)";
           run.status = {nav::MissionStatus::Outcome::kStopped,
                         none + " after " + Seconds(t) + " of looking; " + why};
           break;
         }
         run.viewpoints = search.Viewpoints();
       }
+    } else if (!run.planned && !estimate && t - last_estimate_time > config.mission.give_up_timeout) {
+      // Standing, lost, before any plan: the search and the mission both need a pose.
+      run.status = {nav::MissionStatus::Outcome::kStopped,
+                    "no pose estimate for " + Seconds(t - last_estimate_time) +
+                        " before planning (mission.give_up_timeout): tracking " + track_reason};
+      break;
     }
     if (run.planned) {
       const size_t before = mission.Records().size();

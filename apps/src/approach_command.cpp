@@ -61,6 +61,11 @@ std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r
   std::vector<std::string> lines;
   lines.push_back(Printf("planemap approach: %s, scenario %d (%s), seed %d", o.scene.c_str(), r.scenario, kScenarioNames[r.scenario], r.seed));
   for (const nav::Viewpoint& v : r.viewpoints) {
+    if (v.turn) {
+      lines.push_back(Printf("  no target mapped and no view to walk to: turned on the spot at (%.2f, %.2f) m to heading %.0f deg",
+                             v.pose.x, v.pose.y, v.pose.theta * kRadToDeg));
+      continue;
+    }
     if (v.Explores()) {
       lines.push_back(Printf("  no target mapped: explored from (%.2f, %.2f) m, heading %.0f deg, where %.1f m^2 of floor not "
                              "seen yet came into view",

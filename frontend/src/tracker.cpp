@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -428,7 +429,19 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     unobserved = FreeDirections(normals, config_.ransac.min_normal_spread);
   }
   blind_run_ = rotation_observed || first ? 0 : blind_run_ + 1;
-  if (blind_run_ > config_.lost_after) {
+  if (rotation_observed || first) odometry_at_rotation_ = T_odometry_camera;
+  if (T_odometry_camera && odometry_at_rotation_) {
+    // With odometry the heading errs by the motion since the rotation was measured.
+    const Pose3 motion = odometry_at_rotation_->inverse() * *T_odometry_camera;
+    const double turn = RotationAngle(motion.linear()) / kDegToRad, walked = motion.translation().norm();
+    if (turn > config_.lost_after_turn_deg || walked > config_.lost_after_distance) {
+      result.status = TrackStatus::kLost;
+      char text[160];
+      std::snprintf(text, sizeof(text), "rotation unobserved while the odometry turned %.0f deg and walked %.2f m: ",
+                    turn, walked);
+      result.reason = text + result.reason;
+    }
+  } else if (blind_run_ > config_.lost_after) {
     result.status = TrackStatus::kLost;
     result.reason = "rotation unobserved for " + std::to_string(blind_run_) + " frames: " + result.reason;
   }
@@ -573,7 +586,8 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     }
   }
   // Objects: a frame object is a map object seen again when it shares two faces with it, or, of
-  // the same class, its centre lies within object_match_distance.
+  // the same class or sharing a face, its centre lies within object_match_distance (a box seen
+  // first from the side, its top unseen, votes "locker" until a view measures its height).
   const Eigen::Matrix3d R = T_world_camera.linear();
   for (const FrameObject& fo : model.objects) {
     std::vector<int> faces;
@@ -585,7 +599,8 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     for (const MapObject& mo : map_.objects) {
       int shared = 0;
       for (int f : faces) shared += std::count(mo.landmarks.begin(), mo.landmarks.end(), f) > 0;
-      if (shared >= 2 || (mo.label == fo.label && (mo.center - center).norm() < config_.object_match_distance)) {
+      if (shared >= 2 ||
+          ((mo.label == fo.label || shared >= 1) && (mo.center - center).norm() < config_.object_match_distance)) {
         match = mo.id;
         break;
       }

@@ -23,9 +23,23 @@ bool ExplainedByOtherClass(const PlaneMap& map, int landmark, const std::string&
   return false;
 }
 
+// Whether a face lies in the plane of a taller landmark beside it: a strip of a wall (its bottom,
+// seen past an obstacle that hides the rest), not a face of its own. A box against a wall stands
+// off it by its depth.
+bool PartOfTallerPlane(const PlaneMap& map, const PlaneLandmark& face, const Eigen::Vector3d& centroid,
+                       const SearchConfig& config) {
+  for (const PlaneLandmark& w : map.landmarks) {
+    if (w.id == face.id || w.id == map.Floor() || w.high.z() <= config.candidate_max_height) continue;
+    if (w.plane.normal.dot(face.plane.normal) < std::cos(config.coplanar_angle_deg * kDeg)) continue;
+    if (std::abs(w.plane.SignedDistance(centroid)) > config.coplanar_distance) continue;
+    if (w.Overlaps(face.low, face.high, config.coplanar_distance)) return true;
+  }
+  return false;
+}
+
 bool LookedAt(const std::vector<Viewpoint>& viewpoints, const SearchCandidate& c, double radius) {
   for (const Viewpoint& v : viewpoints) {
-    if (v.Explores()) continue;
+    if (!v.Faces()) continue;
     if (v.candidate.landmark == c.landmark || (v.candidate.center - c.center).norm() < radius) return true;
   }
   return false;
@@ -68,6 +82,9 @@ std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& 
     if (top > config.candidate_max_height || high - low > config.candidate_max_width ||
         high - low < config.candidate_min_width)
       continue;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3f& p : l.points) centroid += p.cast<double>();
+    if (PartOfTallerPlane(map, l, centroid / static_cast<double>(l.points.size()), config)) continue;
     SearchCandidate c;
     c.landmark = l.id;
     c.center = mean + along * (0.5 * (low + high) - along.dot(mean));
@@ -163,7 +180,11 @@ std::vector<ExploreView> ExploreViews(const PlaneMap& map, const Pose2& robot, c
 
 Search::Search(const SearchConfig& config, const MissionConfig& mission, const PlannerConfig& planner,
                const GraspConfig& grasp, Humanoid* robot)
-    : config_(config), planner_(planner), walk_(Scenario::kPathFeedback, mission, planner, grasp, robot) {
+    : config_(config),
+      planner_(planner),
+      settle_time_(mission.settle_time),
+      robot_(robot),
+      walk_(Scenario::kPathFeedback, mission, planner, grasp, robot) {
   ValidateConfig(config, "search.");
   auto below = [](double low, double high, const char* low_name, const char* high_name) {
     if (low < high) return;
@@ -184,8 +205,8 @@ Search::~Search() = default;
 
 bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label,
                   std::string* reason) {
-  if (static_cast<int>(viewpoints_.size()) >= config_.views_max) {
-    *reason = "looked again from " + std::to_string(viewpoints_.size()) + " viewpoints (search.views_max)";
+  if (Walks() >= config_.views_max) {
+    *reason = "looked again from " + std::to_string(Walks()) + " viewpoints (search.views_max)";
     return false;
   }
   const std::vector<SearchCandidate> candidates = SearchCandidates(map, estimate, config_, target_label);
@@ -226,35 +247,70 @@ bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string&
     *reason = "no viewpoint of the " + std::to_string(fresh) +
               " candidate faces left can be walked to: " + last_failure;
   }
-  if (!config_.explore) return false;
-  // Exploring: the best view that can be walked to (the first few tried).
-  const std::vector<ExploreView> views = ExploreViews(map, estimate, config_, planner_);
-  for (size_t k = 0; k < std::min<size_t>(views.size(), 10); ++k) {
-    const PlanResult plan = walk_.PlanTo(map, views[k].pose, estimate);
-    if (plan.ok) {
-      Viewpoint v{views[k].pose, {}, views[k].unseen_area};
-      v.candidate.center = views[k].pose.Position();
-      viewpoints_.push_back(v);
-      return true;
+  if (config_.explore) {
+    // Exploring: the best view that can be walked to (the first few tried).
+    const std::vector<ExploreView> views = ExploreViews(map, estimate, config_, planner_);
+    for (size_t k = 0; k < std::min<size_t>(views.size(), 10); ++k) {
+      const PlanResult plan = walk_.PlanTo(map, views[k].pose, estimate);
+      if (plan.ok) {
+        Viewpoint v{views[k].pose, {}, views[k].unseen_area};
+        v.candidate.center = views[k].pose.Position();
+        viewpoints_.push_back(v);
+        return true;
+      }
+      last_failure = plan.reason;
     }
-    last_failure = plan.reason;
+    char none[160];
+    std::snprintf(none, sizeof(none),
+                  "; no view within %.1f m brings %.1f m^2 of floor not seen yet into view (search.explore_*)",
+                  config_.explore_max_walk, config_.explore_min_area);
+    *reason += views.empty() ? std::string(none)
+                             : "; none of the " + std::to_string(views.size()) +
+                                   " exploring views can be walked to: " + last_failure;
   }
-  char none[160];
-  std::snprintf(none, sizeof(none), "; no view within %.1f m brings %.1f m^2 of floor not seen yet into view (search.explore_*)",
-                config_.explore_max_walk, config_.explore_min_area);
-  *reason += views.empty() ? std::string(none)
-                           : "; none of the " + std::to_string(views.size()) +
-                                 " exploring views can be walked to: " + last_failure;
-  return false;
+  if (turns_ >= config_.turns_max) {
+    *reason += "; turned on the spot " + std::to_string(turns_) + " times (search.turns_max)";
+    return false;
+  }
+  // Turning on the spot: a round robot turning in place sweeps no floor it does not stand on.
+  ++turns_;
+  const double turn = config_.turn_step_deg * kDeg;
+  robot_->MoveTo(0.0, 0.0, turn);
+  turning_ = true;
+  turn_still_since_.reset();
+  Viewpoint v;
+  v.pose = {estimate.x, estimate.y, WrapAngle(estimate.theta + turn)};
+  v.candidate.center = estimate.Position();
+  v.turn = true;
+  viewpoints_.push_back(v);
+  return true;
 }
 
 void Search::Update(double time, const std::optional<Pose2>& estimate) {
-  walk_.Update(time, estimate, nullptr);
+  if (!turning_) return walk_.Update(time, estimate, nullptr);
+  if (robot_->IsWalking()) {
+    turn_still_since_.reset();
+    return;
+  }
+  if (!turn_still_since_) turn_still_since_ = time;
+  if (time - *turn_still_since_ >= settle_time_) turning_ = false;
 }
 
-bool Search::Walking() const { return walk_.Status().outcome == MissionStatus::Outcome::kRunning; }
+bool Search::Walking() const { return turning_ || walk_.Status().outcome == MissionStatus::Outcome::kRunning; }
 
-MissionStatus Search::Status() const { return walk_.Status(); }
+MissionStatus Search::Status() const {
+  if (!viewpoints_.empty() && viewpoints_.back().turn) {
+    if (turning_) return {MissionStatus::Outcome::kRunning, "turning on the spot"};
+    return {MissionStatus::Outcome::kReached, "turned on the spot"};
+  }
+  return walk_.Status();
+}
+
+int Search::Walks() const {
+  int walks = 0;
+  for (const Viewpoint& v : viewpoints_) walks += !v.turn;
+  return walks;
+}
 
 const std::vector<Viewpoint>& Search::Viewpoints() const { return viewpoints_; }
 

@@ -101,13 +101,21 @@ struct TrackingConfig {
   double merge_max_distance = 0.02;      // [m]
   double landmark_voxel = 0.05;          // a landmark keeps one point per voxel of this size [m]
   double velocity_window = 1.0;          // the motion model's velocity spans this much time [s]
-  int lost_after = 30;                   // frames in a row without a measured rotation before the pose is lost
+  int lost_after = 30;                   // frames in a row without a measured rotation before the pose is lost ...
+  // ... or, with odometry (whose heading error grows with the motion, not with the frames: a
+  // robot standing face to a shelf keeps its heading), once the odometry has turned or walked
+  // this much since the rotation was last measured.
+  double lost_after_turn_deg = 60.0;     // [deg]
+  double lost_after_distance = 0.30;     // [m]
   double max_speed = 0.3;                // while degraded, unobserved directions may drift this fast [m/s]
   int recovery_iterations = 2000;        // RANSAC samples while degraded (wider search)
   double keyframe_distance = 0.25;       // a keyframe every this much motion ... [m]
   double keyframe_angle_deg = 15.0;      // ... or turn [deg]
   double object_match_distance = 0.25;   // a frame object joins a map object this close [m]
-  int decided_vote_weight = 10;          // a view that measured an object's height counts as this many
+  // A view that measured an object's height counts as this many that only bounded it from below
+  // (a box stared at from the side, its top unseen, collects "locker" votes: it must not outvote
+  // the views that saw its top) [-]
+  int decided_vote_weight = 1000;
                                          // class votes as one that only bounded it from below
   // A map object is seen moved when object_moved_views views in a row put it elsewhere: a whole
   // view's centre farther than object_moved_distance, or any view's axes turned more than
@@ -157,6 +165,8 @@ struct TrackingConfig {
     v("landmark_voxel", landmark_voxel, Check::kPositive);
     v("velocity_window", velocity_window, Check::kPositive);
     v("lost_after", lost_after, Check::kPositive);
+    v("lost_after_turn_deg", lost_after_turn_deg, Check::kPositive);
+    v("lost_after_distance", lost_after_distance, Check::kPositive);
     v("max_speed", max_speed, Check::kNonNegative);
     v("recovery_iterations", recovery_iterations, Check::kPositive);
     v("keyframe_distance", keyframe_distance, Check::kPositive);
@@ -178,8 +188,9 @@ struct TrackingConfig {
 // tracked: pose from >= 3 non-parallel planes; degraded: too little structure (a corridor, one
 // wall), or the planes that agree with the best pose span fewer than 3 directions: what the
 // matched planes fix is solved, the rest is the motion model's prediction, and the frame still
-// maps; lost: the rotation went unmeasured (one plane or none) for lost_after frames: the pose is
-// the prediction and neither the map nor the motion model take it.
+// maps; lost: the rotation went unmeasured (one plane or none) for lost_after frames (with
+// odometry: while it turned lost_after_turn_deg or walked lost_after_distance): the pose is the
+// prediction and neither the map nor the motion model take it.
 enum class TrackStatus { kTracked, kDegraded, kLost };
 const char* ToString(TrackStatus status);
 
@@ -263,6 +274,7 @@ class Tracker {
   std::optional<Pose3> odometry_at_last_;               // the odometry's camera pose at history_.back()
   int frame_ = 0;
   int blind_run_ = 0;                    // frames in a row whose rotation was not measured
+  std::optional<Pose3> odometry_at_rotation_;  // the odometry's camera pose when it last was
   double last_tracked_stamp_ = 0.0;
   // Projector onto the world translation directions no plane has fixed since the last tracked
   // frame (along a single wall: the wall's direction); zero while tracked.

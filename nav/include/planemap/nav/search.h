@@ -10,9 +10,9 @@
 //
 // A candidate face: vertical, at least candidate_min_observations frames, no taller (its top
 // above the floor) than candidate_max_height, between candidate_min_width and candidate_max_width
-// wide, and not a face of an object classified as something other than the target or unknown
-// with its height measured (a locker's door is no box; two faces on the floor with their top
-// unseen may be one). Walls, furniture tops and the floor never are. The caller may add the
+// wide, not in the plane of a taller landmark it touches (a wall's bottom strip), and not a face
+// of an object classified as something other than the target or unknown with its height
+// measured (a locker's door is no box; two faces on the floor with their top unseen may be one). Walls, furniture tops and the floor never are. The caller may add the
 // latest frame's planes as landmarks: a face too far or too uncertain for the tracker to map
 // (`planemap approach` does).
 //
@@ -24,6 +24,11 @@
 // explore_min_range and explore_max_range; the view whose heading takes in the most, less
 // explore_walk_cost per metre walked, is walked to, if it brings explore_min_area or more into
 // view.
+//
+// Turning on the spot, when there is no view to walk to either (the robot faces a tall shelf that
+// fills the image: no floor in the map, no face to look at): the robot turns turn_step_deg, stands
+// look_time and looks, at most turns_max times. Turning in place sweeps no new floor, so it needs
+// no plan; the tracker keeps the heading from the odometry meanwhile (tracking.lost_after_turn_deg).
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -51,7 +56,14 @@ struct SearchConfig {
   double candidate_max_width = 0.60;               // its horizontal extent, at most ... [m]
   double candidate_min_width = 0.08;               // ... and at least: no chair leg [m]
   int candidate_min_observations = 3;              // frames that saw it, at least [-]
+  // A mapped object of the target's class is a target once seen in this many frames (one view
+  // of a wall 5 m away can make a "box") [-]
+  int target_min_observations = 3;
   double candidate_vertical_tolerance_deg = 10.0;  // its normal this close to horizontal [deg]
+  // A face in the plane of a taller landmark it touches (normals this close, its centroid this
+  // near that plane) is a strip of a wall, not a candidate [deg, m]
+  double coplanar_angle_deg = 5.0;
+  double coplanar_distance = 0.05;
   double visited_radius = 0.40;  // a face this close to one looked at already is skipped [m]
   bool explore = true;           // with no candidate face left, look where the floor is unseen
   double explore_cell = 0.10;       // grid cell of seen and unseen floor [m]
@@ -61,6 +73,9 @@ struct SearchConfig {
   double explore_max_walk = 3.0;    // viewpoints within this of the robot [m]
   double explore_min_area = 0.3;    // a view bringing less unseen floor into view is not walked to [m^2]
   double explore_walk_cost = 0.5;   // unseen floor a metre of walking must bring into view [m^2/m]
+  // With no view left to walk to: turn on the spot by this much (counterclockwise) ... [deg]
+  double turn_step_deg = 45.0;
+  int turns_max = 7;                // ... at most this many times [-]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -72,7 +87,10 @@ struct SearchConfig {
     v("candidate_max_width", candidate_max_width, Check::kPositive);
     v("candidate_min_width", candidate_min_width, Check::kNonNegative);
     v("candidate_min_observations", candidate_min_observations, Check::kNonNegative);
+    v("target_min_observations", target_min_observations, Check::kPositive);
     v("candidate_vertical_tolerance_deg", candidate_vertical_tolerance_deg, Check::kNonNegative);
+    v("coplanar_angle_deg", coplanar_angle_deg, Check::kNonNegative);
+    v("coplanar_distance", coplanar_distance, Check::kNonNegative);
     v("visited_radius", visited_radius, Check::kNonNegative);
     v("explore", explore);
     v("explore_cell", explore_cell, Check::kPositive);
@@ -82,6 +100,8 @@ struct SearchConfig {
     v("explore_max_walk", explore_max_walk, Check::kPositive);
     v("explore_min_area", explore_min_area, Check::kNonNegative);
     v("explore_walk_cost", explore_walk_cost, Check::kNonNegative);
+    v("turn_step_deg", turn_step_deg, Check::kPositive);
+    v("turns_max", turns_max, Check::kNonNegative);
   }
 };
 
@@ -109,10 +129,12 @@ std::vector<ExploreView> ExploreViews(const PlaneMap& map, const Pose2& robot, c
                                       const PlannerConfig& planner);
 
 struct Viewpoint {
-  Pose2 pose;  // where the robot stands, facing the face's centre (world)
-  SearchCandidate candidate;  // landmark -1: an exploring view
+  Pose2 pose;  // where the robot stands, facing the face's centre (world); turning: the heading turned to
+  SearchCandidate candidate;  // landmark -1: an exploring view or a turn
   double unseen_area = 0.0;   // exploring: the floor not seen yet it was chosen for [m^2]
-  bool Explores() const { return candidate.landmark < 0; }
+  bool turn = false;          // turning on the spot (no walk)
+  bool Explores() const { return candidate.landmark < 0 && !turn; }
+  bool Faces() const { return candidate.landmark >= 0; }
 };
 
 class Search {
@@ -123,22 +145,32 @@ class Search {
   ~Search();
 
   // Plans the walk to the next viewpoint: the nearest candidate not looked at yet, from whichever
-  // side is free and nearer; with none left, the best exploring view (config.explore). False,
-  // with the reason, when none is left or views_max are used.
+  // side is free and nearer; with none left, the best exploring view (config.explore); with none
+  // of those, a turn on the spot (config.turns_max). False, with the reason, when none is left or
+  // views_max walks are used.
   bool Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label, std::string* reason);
-  // Every camera frame while Walking(): drives the walk with path feedback.
+  // Every camera frame while Walking(): drives the walk with path feedback, or waits for the
+  // turn to end and the robot to settle.
   void Update(double time, const std::optional<Pose2>& estimate);
   bool Walking() const;
-  // How the last walk ended (kReached: standing at the viewpoint).
+  // How the last walk or turn ended (kReached: standing at the viewpoint, or turned).
   MissionStatus Status() const;
   const std::vector<Viewpoint>& Viewpoints() const;
   const SearchConfig& Config() const;
 
  private:
+  // Counts the viewpoints walked to (turns excluded).
+  int Walks() const;
+
   SearchConfig config_;
   PlannerConfig planner_;
+  double settle_time_;  // mission.settle_time [s]
+  Humanoid* robot_;
   Mission walk_;
   std::vector<Viewpoint> viewpoints_;
+  int turns_ = 0;
+  bool turning_ = false;                 // a turn commanded and not yet settled
+  std::optional<double> turn_still_since_;  // [s]
 };
 
 }  // namespace planemap::nav
