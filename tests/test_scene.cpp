@@ -53,7 +53,8 @@ TEST(Scene, EveryShippedSceneLoadsWithABoxToGraspOnTheFloor) {
     }
     EXPECT_GE(boxes, 1);
   }
-  EXPECT_GE(scenes, 12);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier, hideout
+  EXPECT_GE(scenes, 14);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier,
+                          // hideout, gallery, cellar
 }
 
 TEST(Scene, SurfacesAreConsistentRectangles) {
