@@ -14,7 +14,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   # code paths the default walk, the single-wall walk and the rendered merge already take, and all
   # but one closed-loop approach run (the dropped-frames run takes the whole loop's paths), nor the
   # report's browser test (another approach run; the page is the same as the release build's).
-  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)|Approach\.(FeedbackBeats|AnObjectMoved|ScenarioThreeEnds|ABoxNotMapped|PlanesMappedOnce|ABoxHidden)|Report\.ApproachPageInBrowser'
+  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)|Approach\.(FeedbackBeats|AnObjectMoved|ScenarioThreeEnds|ABoxNotMapped|PlanesMappedOnce|ABoxHidden|ARobotFacing)|Report\.ApproachPageInBrowser'
 else
   build_dir=build
   bash scripts/build.sh "$build_dir"
