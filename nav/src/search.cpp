@@ -70,21 +70,20 @@ std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& 
     const Eigen::Vector2d n = l.plane.normal.head<2>().normalized();
     const Eigen::Vector2d along(-n.y(), n.x());  // the face's horizontal direction
     double low = std::numeric_limits<double>::infinity(), high = -low, top = -low;
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (const Eigen::Vector3f& p : l.points) {
       const Eigen::Vector2d q = p.head<2>().cast<double>();
       low = std::min(low, along.dot(q));
       high = std::max(high, along.dot(q));
       top = std::max(top, static_cast<double>(p.z()));
-      mean += q;
+      centroid += p.cast<double>();
     }
-    mean /= static_cast<double>(l.points.size());
+    centroid /= static_cast<double>(l.points.size());
+    const Eigen::Vector2d mean = centroid.head<2>();
     if (top > config.candidate_max_height || high - low > config.candidate_max_width ||
         high - low < config.candidate_min_width)
       continue;
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3f& p : l.points) centroid += p.cast<double>();
-    if (PartOfTallerPlane(map, l, centroid / static_cast<double>(l.points.size()), config)) continue;
+    if (PartOfTallerPlane(map, l, centroid, config)) continue;
     SearchCandidate c;
     c.landmark = l.id;
     c.center = mean + along * (0.5 * (low + high) - along.dot(mean));
@@ -205,8 +204,9 @@ Search::~Search() = default;
 
 bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label,
                   std::string* reason) {
-  if (Walks() >= config_.views_max) {
-    *reason = "looked again from " + std::to_string(Walks()) + " viewpoints (search.views_max)";
+  const int walks = static_cast<int>(viewpoints_.size()) - turns_;  // turns are not walked to
+  if (walks >= config_.views_max) {
+    *reason = "looked again from " + std::to_string(walks) + " viewpoints (search.views_max)";
     return false;
   }
   const std::vector<SearchCandidate> candidates = SearchCandidates(map, estimate, config_, target_label);
@@ -304,12 +304,6 @@ MissionStatus Search::Status() const {
     return {MissionStatus::Outcome::kReached, "turned on the spot"};
   }
   return walk_.Status();
-}
-
-int Search::Walks() const {
-  int walks = 0;
-  for (const Viewpoint& v : viewpoints_) walks += !v.turn;
-  return walks;
 }
 
 const std::vector<Viewpoint>& Search::Viewpoints() const { return viewpoints_; }

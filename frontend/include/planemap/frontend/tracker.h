@@ -116,7 +116,6 @@ struct TrackingConfig {
   // (a box stared at from the side, its top unseen, collects "locker" votes: it must not outvote
   // the views that saw its top) [-]
   int decided_vote_weight = 1000;
-                                         // class votes as one that only bounded it from below
   // A map object is seen moved when object_moved_views views in a row put it elsewhere: a whole
   // view's centre farther than object_moved_distance, or any view's axes turned more than
   // object_moved_angle_deg about the vertical. Its estimate then starts again from the last of

@@ -12,9 +12,10 @@
 // above the floor) than candidate_max_height, between candidate_min_width and candidate_max_width
 // wide, not in the plane of a taller landmark it touches (a wall's bottom strip), and not a face
 // of an object classified as something other than the target or unknown with its height
-// measured (a locker's door is no box; two faces on the floor with their top unseen may be one). Walls, furniture tops and the floor never are. The caller may add the
-// latest frame's planes as landmarks: a face too far or too uncertain for the tracker to map
-// (`planemap approach` does).
+// measured (a locker's door is no box; two faces on the floor with their top unseen may be
+// one). Walls, furniture tops and the floor never are. The caller may add the latest frame's
+// planes as landmarks: a face too far or too uncertain for the tracker to map (`planemap
+// approach` does).
 //
 // Exploring, when no candidate face is left (a box hidden behind a shelf, or out of view): the
 // next-best view over the floor the map holds. The floor's extent, on a grid of explore_cell, is
@@ -159,16 +160,13 @@ class Search {
   const SearchConfig& Config() const;
 
  private:
-  // Counts the viewpoints walked to (turns excluded).
-  int Walks() const;
-
   SearchConfig config_;
   PlannerConfig planner_;
   double settle_time_;  // mission.settle_time [s]
   Humanoid* robot_;
   Mission walk_;
   std::vector<Viewpoint> viewpoints_;
-  int turns_ = 0;
+  int turns_ = 0;                        // of viewpoints_, the turns on the spot
   bool turning_ = false;                 // a turn commanded and not yet settled
   std::optional<double> turn_still_since_;  // [s]
 };
