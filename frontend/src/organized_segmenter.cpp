@@ -5,6 +5,9 @@
 #include <cmath>
 #include <numeric>
 #include <queue>
+#include <limits>
+#include <optional>
+#include <random>
 
 #include <Eigen/Eigenvalues>
 
@@ -273,6 +276,65 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
   }
 }
 
+// Step 5's check, for a plane robust_min_depth or farther: the share of its inliers farther than
+// half the inlier distance from it. Above robust_check_share, the plane most of them lie on by
+// sample consensus (MSAC's truncated squared loss on distances over half the inlier distance, as
+// the check), refitted on those within the inlier distance of it; the rest are dropped. Nothing:
+// the plane stands as it is (also when the least-squares plane itself scores best).
+std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vector<int>& inliers, const PlaneFit& fit,
+                               const OrganizedSegmenterConfig& c, std::uint32_t seed) {
+  const auto limit = [&](const pcl::PointXYZRGB& p) {
+    return GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, p.z);
+  };
+  const auto distance = [](const Eigen::Vector3d& n, double d, const pcl::PointXYZRGB& p) {
+    return std::abs(n.x() * p.x + n.y() * p.y + n.z() * p.z + d);
+  };
+  if (fit.centroid.z() < c.robust_min_depth) return std::nullopt;
+  // The share from at most 2000 of them, and at most 300 scored per hypothesis.
+  int far = 0, checked = 0;
+  for (size_t k = 0; k < inliers.size(); k += std::max<size_t>(1, inliers.size() / 2000), ++checked) {
+    far += distance(fit.plane.normal, fit.plane.offset, cloud[inliers[k]]) > 0.5 * limit(cloud[inliers[k]]);
+  }
+  if (far <= c.robust_check_share * checked) return std::nullopt;
+  const size_t stride = std::max<size_t>(1, inliers.size() / 300);
+  std::mt19937 random(seed);
+  std::uniform_int_distribution<size_t> pick(0, inliers.size() - 1);
+  Eigen::Vector3d best_normal = fit.plane.normal;
+  double best_offset = fit.plane.offset, best_cost = std::numeric_limits<double>::infinity();
+  int best_hypothesis = 0;
+  for (int h = 0; h <= c.robust_hypotheses; ++h) {
+    Eigen::Vector3d n = fit.plane.normal;
+    double d = fit.plane.offset;
+    if (h > 0) {  // hypothesis 0: the least-squares plane itself
+      const Eigen::Vector3d a = cloud[inliers[pick(random)]].getVector3fMap().cast<double>();
+      const Eigen::Vector3d b = cloud[inliers[pick(random)]].getVector3fMap().cast<double>();
+      const Eigen::Vector3d e = cloud[inliers[pick(random)]].getVector3fMap().cast<double>();
+      n = (b - a).cross(e - a);
+      if (n.norm() < 1e-9) continue;
+      n.normalize();
+      d = -n.dot(a);
+    }
+    double cost = 0.0;
+    for (size_t k = 0; k < inliers.size(); k += stride) {
+      const pcl::PointXYZRGB& p = cloud[inliers[k]];
+      const double r = distance(n, d, p) / (0.5 * limit(p));
+      cost += std::min(1.0, r * r);
+    }
+    if (cost < best_cost) {
+      best_cost = cost;
+      best_normal = n;
+      best_offset = d;
+      best_hypothesis = h;
+    }
+  }
+  if (best_hypothesis == 0) return std::nullopt;  // most of them lie on the least-squares plane
+  std::vector<int> kept;
+  for (int i : inliers) {
+    if (distance(best_normal, best_offset, cloud[i]) < limit(cloud[i])) kept.push_back(i);
+  }
+  return kept;
+}
+
 }  // namespace
 
 SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
@@ -316,6 +378,12 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     const PlaneFit fit = FitPlane(fit_moments[r]);
     if (!fit.ok || fit_moments[r].n < 0.5 * inliers[r].size()) {
       planes.push_back(FitDetectedPlane(cloud, std::move(inliers[r])));
+      continue;
+    }
+    std::optional<std::vector<int>> robust =
+        RobustInliers(cloud, inliers[r], fit, c, c.robust_seed + static_cast<std::uint32_t>(r));
+    if (robust) {
+      if (static_cast<int>(robust->size()) >= config_.min_inliers) planes.push_back(FitDetectedPlane(cloud, std::move(*robust)));
       continue;
     }
     planes.push_back(MakeDetectedPlane(fit, std::move(inliers[r]), bounds[r]));

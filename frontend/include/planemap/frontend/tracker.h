@@ -6,6 +6,7 @@
 // previous frame; unmatched planes become landmarks, and the frame's edges and objects are merged
 // into the map's.
 #include <deque>
+#include <functional>
 #include <optional>
 #include <string>
 #include <unordered_set>
@@ -243,10 +244,14 @@ class Tracker {
   double Confirmed(const PlaneLandmark& l) const;
   // Whether a placed observation lies on `landmark` within merge_max_angle_deg / merge_max_distance.
   bool Agrees(const Observation& o, const Plane& landmark) const;
-  // The world-from-camera rotation from the normals of each plane's best candidate, when they
-  // span two directions or more.
+  // The world-from-camera rotation from the normals of each plane's best candidate that agree
+  // with the best-supported hypothesis (the predicted rotation, or one from two non-parallel
+  // planes; support: the agreeing planes' weight times `plausibility`), when they span two
+  // directions or more. `agreeing`: per observation, whether its normal agreed.
   std::optional<Eigen::Matrix3d> SolveRotation(const std::vector<Candidate>& candidates,
-                                               const std::vector<Observation>& observed) const;
+                                               const std::vector<Observation>& observed, const Eigen::Matrix3d& predicted,
+                                               const std::function<double(const Eigen::Matrix3d&)>& plausibility,
+                                               std::vector<bool>* agreeing) const;
   // The distance gate widens by `drift` times the landmark normal's part along unobserved_.
   std::vector<Candidate> Associate(const std::vector<Observation>& observed, double max_angle_deg,
                                    double max_distance, int per_plane, double drift) const;
