@@ -10,11 +10,14 @@ if [ "${1:-}" = "--sanitize" ]; then
   bash scripts/build.sh "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLANEMAP_SANITIZE=ON -DPLANEMAP_BUILD_BENCH=OFF
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-  # The sanitized build runs every test but the longest rendered walks (3-4 min each there), whose
-  # code paths the default walk, the single-wall walk and the rendered merge already take, and all
-  # but one closed-loop approach run (the dropped-frames run takes the whole loop's paths), nor the
+  # The sanitized build runs every test but the longest rendered runs (2-4 min each there): the
+  # storeroom and office walks, whose code paths the default walk takes; the rendered tracking
+  # stretches (single wall, near a box, facing a shelf, a far wall), the rendered merge and the
+  # seeded consistency runs, whose units have their own tests (silhouettes, merging, covariances)
+  # and whose tracker paths the default walk and the dropped-frames run take; all but one
+  # closed-loop approach run (the dropped-frames run takes the whole loop's paths); and the
   # report's browser test (another approach run; the page is the same as the release build's).
-  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)|Approach\.(FeedbackBeats|AnObjectMoved|ScenarioThreeEnds|ABoxNotMapped|PlanesMappedOnce|ABoxHidden|ARobotFacing)|Report\.ApproachPageInBrowser'
+  exclude='(TrackedWalk|RefinedWalk).*/(storeroom|office)|Tracking\.(SingleWallStretch|NearABoxItsSilhouettes|FacingOnePlane|AStandingRobotDoesNotFollowAFarWall)|MapMerge\.TwoHalves|Consistency\.BoxDimensionCovariances|Approach\.(FeedbackBeats|AnObjectMoved|ScenarioThreeEnds|ABoxNotMapped|PlanesMappedOnce|ABoxHidden|ARobotFacing|ACrateBefore)|Report\.ApproachPageInBrowser'
 else
   build_dir=build
   bash scripts/build.sh "$build_dir"

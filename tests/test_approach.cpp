@@ -32,7 +32,7 @@ ApproachOptions Options(int scenario, int seed) {
 
 void Print(const char* what, const ApproachRun& r) {
   std::printf("%s: scenario %d seed %d: %s (%s); average error %.1f cm, pre-grasp %.1f cm %.1f deg, grasp %s, collision %s\n", what,
-              r.scenario, r.seed, r.status.Reached() ? "reached" : "stopped", r.status.reason.c_str(), 100 * r.average_error,
+              r.scenario, r.seed, r.Reached() ? "reached" : "stopped", r.status.reason.c_str(), 100 * r.average_error,
               100 * r.position_error, r.heading_error * kRadToDeg, r.grasp_ok ? "ok" : r.grasp_reason.c_str(),
               r.collided ? r.collision.c_str() : "none");
 }
@@ -49,7 +49,7 @@ ApproachRun RunInScene(const std::string& name, int seed) {
 // Reached the pre-grasp pose of the scene's box within 3 cm and 5 deg, the grasp check passing,
 // no collision.
 void ExpectAtThePreGraspPose(const ApproachRun& r) {
-  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
+  ASSERT_TRUE(r.Reached()) << r.status.reason;
   EXPECT_EQ(r.target, "box");
   EXPECT_FALSE(r.collided) << r.collision;
   EXPECT_LT(r.position_error * 100.0, 3.0) << "cm";
@@ -72,7 +72,7 @@ TEST(Approach, FeedbackBeatsOpenLoopAndScenarioThreeEndsAtThePreGraspPose) {
   EXPECT_GT(open.position_error, path.position_error) << "m";
   EXPECT_GT(open.position_error, object.position_error) << "m";
   EXPECT_GT(open.average_error, path.average_error) << "m";
-  EXPECT_TRUE(object.status.Reached()) << object.status.reason;
+  EXPECT_TRUE(object.Reached()) << object.status.reason;
   EXPECT_LT(object.position_error, 0.03) << "m";
   EXPECT_LT(object.heading_error * kRadToDeg, 5.0) << "deg";
   EXPECT_TRUE(object.grasp_ok) << object.grasp_reason;
@@ -87,7 +87,7 @@ TEST(Approach, ASecondWithoutFramesStillEndsAtThePreGraspPose) {
   const ApproachRun r = RunApproachOnce(o);
   Print("frames dropped", r);
   EXPECT_GE(r.lost_frames, 14);
-  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
+  ASSERT_TRUE(r.Reached()) << r.status.reason;
   EXPECT_LT(r.position_error, 0.03) << "m";
   EXPECT_TRUE(r.grasp_ok) << r.grasp_reason;
   EXPECT_FALSE(r.collided) << r.collision;
@@ -100,7 +100,7 @@ TEST(Approach, AnObjectMovedAndTurnedAfterThePlanIsApproachedWhereItIsNow) {
   const ApproachRun r = RunApproachOnce(o);
   Print("object moved", r);
   EXPECT_FALSE(r.collided) << r.collision;
-  ASSERT_TRUE(r.status.Reached()) << r.status.reason;
+  ASSERT_TRUE(r.Reached()) << r.status.reason;
   // Scored against the moved box: the map's box restarted from the views that saw it moved, and
   // the mission re-planned to it.
   EXPECT_GE(r.stops.size(), 2u);
@@ -118,7 +118,7 @@ TEST(Approach, ScenarioThreeEndsAtThePreGraspPoseInRoomsAddedAfterTuning) {
     o.scene = testing::SourcePath(scene);
     const ApproachRun r = RunApproachOnce(o);
     Print(scene, r);
-    ASSERT_TRUE(r.status.Reached()) << scene << ": " << r.status.reason;
+    ASSERT_TRUE(r.Reached()) << scene << ": " << r.status.reason;
     EXPECT_FALSE(r.collided) << scene << ": " << r.collision;
     EXPECT_LT(r.position_error, 0.03) << scene << ": m";
     EXPECT_LT(r.heading_error * kRadToDeg, 5.0) << scene << ": deg";
@@ -173,6 +173,17 @@ TEST(Approach, ARobotFacingATallShelfTurnsOnTheSpotThenFindsTheBox) {
   ASSERT_FALSE(r.viewpoints.empty());
   EXPECT_TRUE(r.viewpoints.front().turn);
   EXPECT_EQ(r.lost_frames, 0);
+  ExpectAtThePreGraspPose(r);
+}
+
+// The gallery (configs/scenes/gallery.yaml, measured once as an unseen room in which 9 of 20 runs
+// approached the wrong object; since then a tuning scene): a 32 x 28 x 40 cm crate, a graspable
+// box to the frontend, stands before the 24 x 21 x 33 cm box and hides it from the start. The
+// scene's task tells the robot the box's size; the crate, once measured, is another object, and
+// its faces are no candidates to look at again. Seed 1 approached the crate before.
+TEST(Approach, ACrateBeforeTheBoxIsNotTakenForItWhenTheTaskGivesItsSize) {
+  const ApproachRun r = RunInScene("gallery", 1);
+  EXPECT_EQ(r.intended, "box");
   ExpectAtThePreGraspPose(r);
 }
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -345,6 +346,42 @@ TEST(Cli, AnUnwritableReportIsNamedBeforeTheRun) {
   const CommandRun table = Planemap("approach --table --seeds 1 --report " + dir.File("r.html"));
   EXPECT_EQ(table.exit_code, 1);
   EXPECT_NE(table.output.find("--report and --map are for a single run"), std::string::npos) << table.output;
+}
+
+// `planemap approach --trace`: one CSV row per camera frame with the tracker's status and the
+// tracked and smoothed base poses beside the true one; an unwritable path is named before the run.
+TEST(Cli, ApproachTraceHasEveryFrameAndTheEstimateAgainstTheTruth) {
+  TempDir dir;
+  const std::string file = dir.File("trace.csv");
+  const CommandRun run = Planemap("approach --rate 15 --max-time 2 --trace " + file);
+  ASSERT_NE(run.output.find("wrote " + file), std::string::npos) << run.output;
+  std::ifstream in(file);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line.rfind("scenario,seed,time_s,phase,status,planes,matched,inliers,added,refined,", 0), 0u) << line;
+  int rows = 0;
+  double worst = 0.0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream fields(line);
+    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 21u) << line;
+    EXPECT_EQ(cells[0], "3");
+    EXPECT_NEAR(std::stod(cells[2]), rows / 15.0, 1e-3) << line;
+    EXPECT_TRUE(cells[4] == "tracked" || cells[4] == "degraded") << line;
+    // The estimate's error is its distance to the true base position, here under 3 cm.
+    const double ex = std::stod(cells[13]), ey = std::stod(cells[14]), tx = std::stod(cells[16]), ty = std::stod(cells[17]);
+    EXPECT_NEAR(std::stod(cells[20]), std::hypot(ex - tx, ey - ty), 1e-4) << line;
+    worst = std::max(worst, std::stod(cells[20]));
+    ++rows;
+  }
+  EXPECT_EQ(rows, 31) << "frames at 0, 1/15, ..., 2 s";
+  EXPECT_LT(worst * 100.0, 3.0) << "cm";
+  const std::string unwritable = dir.File("no_such_folder/trace.csv");
+  const CommandRun bad = Planemap("approach --trace " + unwritable);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find(unwritable + ": cannot write the trace"), std::string::npos) << bad.output;
+  EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;
 }
 
 }  // namespace

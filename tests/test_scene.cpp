@@ -52,6 +52,8 @@ TEST(Scene, EveryShippedSceneLoadsWithABoxToGraspOnTheFloor) {
       EXPECT_NEAR(o.Center().z(), o.dimensions.z() / 2.0, 1e-9);  // standing on the floor
     }
     EXPECT_GE(boxes, 1);
+    // A room the robot is sent into names the box it is sent for (the office is a mapping scene).
+    if (entry.path().stem() != "office") EXPECT_NE(scene.task_object, "");
   }
   EXPECT_GE(scenes, 14);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier,
                           // hideout, gallery, cellar
@@ -217,6 +219,13 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
       "      - {name: a, dimension: [1, 1, 1]}\n");
   EXPECT_TRUE(ThrowsWith([&] { LoadScene(part_typo); }, {part_typo + ":6", "unknown key 'objects[0].parts[0].dimension'"}));
   EXPECT_TRUE(ThrowsWith([&] { LoadScene(dir.File("missing.yaml")); }, {dir.File("missing.yaml"), "cannot open"}));
+  // The task names one of the scene's boxes.
+  const std::string no_such = dir.Write("task.yaml", "task: {object: parcel}\n" + SceneWithObject(""));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(no_such); }, {no_such + ":1", "task.object: no object named 'parcel'"}));
+  const std::string not_a_box =
+      dir.Write("taskbox.yaml", "task: {object: b}\n" + SceneWithObject("    type: locker\n"));
+  EXPECT_TRUE(ThrowsWith([&] { LoadScene(not_a_box); }, {not_a_box + ":1", "'b' is a locker; the robot is sent for a box"}));
+  EXPECT_EQ(LoadScene(dir.Write("taskok.yaml", "task: {object: b}\n" + SceneWithObject(""))).task_object, "b");
   const std::string syntax = dir.Write("syntax.yaml", "name: [unclosed\n");
   EXPECT_TRUE(ThrowsWith([&] { LoadScene(syntax); }, {syntax, "YAML syntax error"}));
 }

@@ -16,6 +16,7 @@
 #include "planemap/frontend/frontend.h"
 #include "planemap/frontend/tracker.h"
 #include "planemap/nav/simulated_humanoid.h"
+#include "planemap/nav/target.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
 
@@ -80,26 +81,36 @@ std::vector<std::pair<std::string, nav::Footprint>> Footprints(const sim::Scene&
   return footprints;
 }
 
-// The mapped objects of the target class seen in min_observations frames or more that the arms
-// could grasp from their pre-grasp pose (as Mission::Plan checks it), the most seen first.
-// `ungraspable`: how many of the class could not be, and why the last could not; `unconfirmed`:
-// how many were seen in fewer frames (one view of a wall 5 m away can make a "box").
-std::vector<int> FindTargets(const PlaneMap& map, const std::string& label, const nav::GraspConfig& grasp,
-                             int min_observations, const nav::Pose2& robot, int* ungraspable, int* unconfirmed,
-                             std::string* why) {
+// The mapped objects of the target's class and size (nav/target.h) seen in min_observations
+// frames or more that the arms could grasp from their pre-grasp pose (as Mission::Plan checks
+// it), the most seen first. `ungraspable`: how many could not be, and why the last could not;
+// `unconfirmed`: how many were seen in fewer frames (one view of a wall 5 m away can make a
+// "box"); `other_size`: how many of the class were measured at another size, and the last one's.
+struct TargetCounts {
+  int ungraspable = 0, unconfirmed = 0, other_size = 0;
+  std::string ungraspable_why, other_size_why;
+};
+
+std::vector<int> FindTargets(const PlaneMap& map, const nav::TargetDescription& target, const nav::GraspConfig& grasp,
+                             int min_observations, const nav::Pose2& robot, TargetCounts* counts) {
   std::vector<int> targets;
-  *ungraspable = *unconfirmed = 0;
+  *counts = TargetCounts{};
   for (const MapObject& o : map.objects) {
-    if (o.label != label) continue;
+    if (o.label != target.label) continue;
+    if (const std::string conflict = nav::SizeConflict(o, target); !conflict.empty()) {
+      ++counts->other_size;
+      counts->other_size_why = "object " + std::to_string(o.id) + ": " + conflict;
+      continue;
+    }
     if (o.observations < min_observations) {
-      ++*unconfirmed;
+      ++counts->unconfirmed;
       continue;
     }
     const Eigen::Vector2d side = nav::ChooseGraspSide(o, grasp, robot.Position() - o.center.head<2>());
     const nav::GraspCheck check = nav::CheckGrasp(o, nav::PreGraspPose(o, grasp, side), grasp);
     if (!check.ok) {
-      ++*ungraspable;
-      *why = check.reason;
+      ++counts->ungraspable;
+      counts->ungraspable_why = check.reason;
       continue;
     }
     targets.push_back(o.id);
@@ -172,10 +183,21 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   if (options.start.size() != 3) throw InputError("--start needs x y heading_deg");
   if (options.move_object_by.size() != 3) throw InputError("--move-by needs dx dy dyaw_deg");
   if (options.rate <= 0.0) throw InputError("--rate must be positive");
+  if (!options.target_size.empty() &&
+      (options.target_size.size() != 3 ||
+       std::any_of(options.target_size.begin(), options.target_size.end(), [](double v) { return !(v > 0.0); })))
+    throw InputError("--target-size needs 3 positive numbers: the two horizontal extents and the height [m]");
   const sim::Scene& scene = inputs.scene;
   const CameraIntrinsics& camera = inputs.camera;
   AppConfig config = inputs.config;
   config.render.seed = options.seed;
+  // What the robot is told to fetch: the class, and the size given, or the scene task's box's.
+  nav::TargetDescription wanted{options.target, std::nullopt, config.search.target_size_tolerance};
+  if (options.target_size.size() == 3) {
+    wanted.size = Eigen::Vector3d(options.target_size[0], options.target_size[1], options.target_size[2]);
+  } else if (!scene.task_object.empty()) {
+    wanted.size = scene.object(scene.task_object).dimensions;
+  }
   const Frontend frontend(camera, config.frontend, inputs.patterns);
   const sim::VirtualCamera sensor(scene, camera, config.render);
   std::unique_ptr<sim::VirtualCamera> moved_sensor;  // built when the target is known
@@ -223,7 +245,14 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
     const bool dropped = options.drop_at >= 0.0 && t >= options.drop_at && t < options.drop_at + options.drop_duration;
     std::optional<nav::Pose2> estimate;
     ++run.frames;
+    ApproachFrame& traced = run.trace.emplace_back();
+    traced.time = t;
+    traced.phase = !run.planned ? (search.Walking() ? "search" : "look")
+                   : mission.Records().empty() || mission.Records().back().phase == nav::Phase::kPath ? "path"
+                                                                                                      : "approach";
+    traced.truth = robot.TruePose();
     if (dropped) {
+      traced.status = "dropped";
       ++run.lost_frames;
       track_reason = "lost: the frame dropped out";
       odometry.Correct(robot.OdometryPose());
@@ -258,12 +287,22 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       run.render_ms.push_back(Ms(t0, t1));
       run.perception_ms.push_back(Ms(t1, t2));
       run.estimation_ms.push_back(Ms(t2, t3));
+      traced.status = ToString(tracked.status);
+      traced.planes = tracked.planes;
+      traced.matched = tracked.matched;
+      traced.inliers = tracked.inliers;
+      traced.added = tracked.added;
+      traced.refined = tracked.refined;
+      traced.reason = tracked.reason;
+      traced.tracked = nav::BaseFromCamera(tracked.T_world_camera, config.humanoid.camera_forward_offset);
       if (tracked.status == TrackStatus::kLost) {
         ++run.lost_frames;
         track_reason = "lost: " + tracked.reason;
       } else {
         last_estimate_time = t;
         estimate = nav::BaseFromCamera(T_smoothed, config.humanoid.camera_forward_offset);
+        traced.has_estimate = true;
+        traced.estimate = *estimate;
         run.estimate_path.push_back(*estimate);
         run.pose_errors.push_back((estimate->Position() - robot.TruePose().Position()).norm());
       }
@@ -282,13 +321,12 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
         view_start = t;
       }
     } else if (!run.planned && estimate && t - view_start >= options.look_time) {
-      int ungraspable = 0, unconfirmed = 0;
-      std::string ungraspable_why, plan_failure;
+      TargetCounts counts;
+      std::string plan_failure;
       target = -1;
       // The most seen target a plan reaches; one whose plan fails is passed over.
-      for (int candidate : FindTargets(tracker.map(), options.target, config.grasp,
-                                       config.search.target_min_observations, *estimate, &ungraspable,
-                                       &unconfirmed, &ungraspable_why)) {
+      for (int candidate : FindTargets(tracker.map(), wanted, config.grasp, config.search.target_min_observations,
+                                       *estimate, &counts)) {
         const nav::PlanResult plan = mission.Plan(tracker.map(), candidate, *estimate);
         if (plan.ok) {
           target = candidate;
@@ -298,8 +336,11 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       }
       if (target >= 0) {
         run.planned = true;
-        target_truth = &NearestObject(scene, tracker.map().objects[target].center);
-        run.target = target_truth->name;
+        // Scored against the scene's task object when it names one, whatever was approached.
+        const sim::SceneObject& approached = NearestObject(scene, tracker.map().objects[target].center);
+        target_truth = scene.task_object.empty() ? &approached : &scene.object(scene.task_object);
+        run.target = approached.name;
+        run.intended = scene.task_object;
         run.reference = mission.ReferencePath();
         run.pregrasp_planned = mission.PreGraspTarget();
       } else if (t - view_start >=
@@ -309,13 +350,17 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
                                                             last_T_world_camera,
                                                             config.search.candidate_min_observations)
                                          : tracker.map();
-        if (!search.Next(seen, *estimate, options.target, &why)) {
-          std::string none = ungraspable > 0 ? "no " + options.target + " the arms can grasp (" +
-                                                   std::to_string(ungraspable) + " mapped; " + ungraspable_why + ")"
-                                             : "no " + options.target + " in the map";
+        if (!search.Next(seen, *estimate, wanted, &why)) {
+          std::string none = counts.ungraspable > 0 ? "no " + options.target + " the arms can grasp (" +
+                                                          std::to_string(counts.ungraspable) + " mapped; " +
+                                                          counts.ungraspable_why + ")"
+                                                    : "no " + options.target + " in the map";
           if (!plan_failure.empty()) none = "no " + options.target + " a plan reaches (" + plan_failure + ")";
-          if (unconfirmed > 0)
-            none += " (" + std::to_string(unconfirmed) + " seen in fewer than search.target_min_observations frames)";
+          if (counts.other_size > 0)
+            none += " (" + std::to_string(counts.other_size) + " of another size; " + counts.other_size_why + ")";
+          if (counts.unconfirmed > 0)
+            none += " (" + std::to_string(counts.unconfirmed) +
+                    " seen in fewer than search.target_min_observations frames)";
           run.status = {nav::MissionStatus::Outcome::kStopped,
                         none + " after " + Seconds(t) + " of looking; " + why};
           break;

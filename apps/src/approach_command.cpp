@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <thread>
 
@@ -83,14 +84,18 @@ std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r
   }
   lines.push_back(Printf("  target: %s; pre-grasp pose planned at (%.3f, %.3f) m, heading %.1f deg", r.target.c_str(), r.pregrasp_planned.x,
                          r.pregrasp_planned.y, r.pregrasp_planned.theta * kRadToDeg));
+  if (r.WrongObject())
+    lines.push_back(Printf("  the %s approached is not the %s the scene's task names: scored against the %s", r.target.c_str(),
+                           r.intended.c_str(), r.intended.c_str()));
   lines.push_back("  stop  plan  phase      time s   estimate to path cm   truth to path cm");
   for (const ApproachStop& s : r.stops) {
     lines.push_back(Printf("  %4d  %4d  %-8s  %7.1f   %19.1f   %16.1f", s.record.index, s.record.plan,
                            s.record.phase == nav::Phase::kPath ? "path" : "approach", s.record.time, 100 * s.record.distance_to_path,
                            100 * s.truth_to_path));
   }
-  lines.push_back(Printf("  %s after %.1f s (%d frames, %d lost): %s", r.status.Reached() ? "reached" : "stopped", r.duration, r.frames,
-                         r.lost_frames, r.status.reason.c_str()));
+  lines.push_back(Printf("  %s after %.1f s (%d frames, %d lost): %s", r.Reached() ? "reached" : "stopped", r.duration, r.frames,
+                         r.lost_frames, r.WrongObject() ? ("at the wrong object's pre-grasp pose: " + r.status.reason).c_str()
+                                                        : r.status.reason.c_str()));
   lines.push_back(Printf("  average error %.1f cm; pre-grasp error: position %.1f cm, heading %.1f deg; grasp check: %s; collisions: %s",
                          100 * r.average_error, 100 * r.position_error, r.heading_error * kRadToDeg,
                          r.grasp_ok ? "ok" : ("failed: " + r.grasp_reason).c_str(), r.collided ? r.collision.c_str() : "none"));
@@ -106,6 +111,40 @@ std::vector<std::string> RunLines(const ApproachOptions& o, const ApproachRun& r
                          100 * r.gait.lateral_true));
   lines.push_back(TimingLine(r, o.rate));
   return lines;
+}
+
+// The trace file, opened before the runs so that a path that cannot be written is named at once.
+std::unique_ptr<std::ofstream> OpenTrace(const std::string& file) {
+  if (file.empty()) return nullptr;
+  auto out = std::make_unique<std::ofstream>(file);
+  if (!*out) ThrowInputError(file, 0, "cannot write the trace");
+  return out;
+}
+
+// Every frame of the runs as CSV, one row per frame: the columns name their units.
+void WriteTrace(const std::string& file, std::ofstream& out, const std::vector<ApproachRun>& runs) {
+  out << "scenario,seed,time_s,phase,status,planes,matched,inliers,added,refined,"
+         "tracked_x_m,tracked_y_m,tracked_theta_rad,estimate_x_m,estimate_y_m,estimate_theta_rad,"
+         "true_x_m,true_y_m,true_theta_rad,tracked_error_m,estimate_error_m,reason\n";
+  for (const ApproachRun& r : runs) {
+    for (const ApproachFrame& f : r.trace) {
+      const bool tracked = f.status != "dropped";
+      out << Printf("%d,%d,%.4f,%s,%s,%d,%d,%d,%d,%d,", r.scenario, r.seed, f.time, f.phase.c_str(), f.status.c_str(),
+                    f.planes, f.matched, f.inliers, f.added, f.refined ? 1 : 0);
+      out << (tracked ? Printf("%.5f,%.5f,%.5f,", f.tracked.x, f.tracked.y, f.tracked.theta) : std::string(",,,"));
+      out << (f.has_estimate ? Printf("%.5f,%.5f,%.5f,", f.estimate.x, f.estimate.y, f.estimate.theta)
+                             : std::string(",,,"));
+      out << Printf("%.5f,%.5f,%.5f,", f.truth.x, f.truth.y, f.truth.theta);
+      out << (tracked ? Printf("%.5f,", (f.tracked.Position() - f.truth.Position()).norm()) : std::string(","));
+      out << (f.has_estimate ? Printf("%.5f,", (f.estimate.Position() - f.truth.Position()).norm()) : std::string(","));
+      // The reason is free text: quoted, its quotes doubled (RFC 4180).
+      std::string reason = f.reason;
+      for (size_t at = reason.find('"'); at != std::string::npos; at = reason.find('"', at + 2)) reason.insert(at, "\"");
+      out << '"' << reason << "\"\n";
+    }
+  }
+  out.flush();
+  if (!out) ThrowInputError(file, 0, "writing the trace failed");
 }
 
 void WritePlots(const std::string& prefix, const std::vector<ApproachRun>& runs) {
@@ -155,6 +194,7 @@ int RunApproach(const ApproachCommandOptions& options) {
   if (!options.table) {
     ReportAssets assets;
     if (!options.report.empty()) assets = PrepareReport(options.report);
+    const std::unique_ptr<std::ofstream> trace = OpenTrace(options.trace);
     const ApproachRun r = RunApproachOnce(options.run);
     const std::vector<std::string> lines = RunLines(options.run, r);
     for (const std::string& line : lines) std::printf("%s\n", line.c_str());
@@ -172,12 +212,17 @@ int RunApproach(const ApproachCommandOptions& options) {
       WritePlots(options.plots, {r});
       std::printf("  wrote %s_*.svg\n", options.plots.c_str());
     }
+    if (trace) {
+      WriteTrace(options.trace, *trace, {r});
+      std::printf("  wrote %s\n", options.trace.c_str());
+    }
     return r.planned ? 0 : 1;
   }
   if (!options.report.empty() || !options.map.empty()) throw InputError("--report and --map are for a single run, not --table");
   if (options.seeds < 1) throw InputError("--seeds must be 1 or more");
   // Every run reads the files as they are now: an edit while the table runs changes nothing.
   const std::shared_ptr<const ApproachInputs> inputs = LoadApproachInputs(options.run);
+  const std::unique_ptr<std::ofstream> trace = OpenTrace(options.trace);
   // Every (scenario, seed) pair, in parallel; results in order whatever the scheduling.
   std::vector<ApproachRun> runs(3 * options.seeds);
   std::atomic<int> next{0}, done{0};
@@ -215,7 +260,7 @@ int RunApproach(const ApproachCommandOptions& options) {
               options.run.seed + options.seeds - 1);
   std::printf("                                       Scenario 1        Scenario 2        Scenario 3\n");
   std::vector<double> average[4], position[4], heading[4], pose_worst[4];
-  int grasp_ok[4] = {}, collided[4] = {}, reached[4] = {};
+  int grasp_ok[4] = {}, collided[4] = {}, reached[4] = {}, wrong[4] = {};
   nlohmann::json json;
   json["scene"] = options.run.scene;
   json["seeds"] = options.seeds;
@@ -228,12 +273,13 @@ int RunApproach(const ApproachCommandOptions& options) {
     }
     grasp_ok[r.scenario] += r.grasp_ok;
     collided[r.scenario] += r.collided;
-    reached[r.scenario] += r.status.Reached();
+    reached[r.scenario] += r.Reached();
+    wrong[r.scenario] += r.WrongObject();
     nlohmann::json& s = json["scenarios"][std::to_string(r.scenario)];
     s["paper_average_error_m"] = kPaperAverage[r.scenario] / 100;
     s["paper_pregrasp_error_m"] = kPaperPregrasp[r.scenario] / 100;
-    s["runs"].push_back({{"seed", r.seed}, {"planned", r.planned}, {"reached", r.status.Reached()}, {"reason", r.status.reason},
-                         {"target", r.target}, {"viewpoints", r.viewpoints.size()},
+    s["runs"].push_back({{"seed", r.seed}, {"planned", r.planned}, {"reached", r.Reached()}, {"reason", r.status.reason},
+                         {"target", r.target}, {"intended", r.intended}, {"wrong_object", r.WrongObject()}, {"viewpoints", r.viewpoints.size()},
                          {"average_error_m", r.average_error}, {"pregrasp_position_error_m", r.position_error},
                          {"pregrasp_heading_error_rad", r.heading_error}, {"grasp_ok", r.grasp_ok}, {"collided", r.collided},
                          {"collision", r.collision}, {"duration_s", r.duration},
@@ -267,11 +313,17 @@ int RunApproach(const ApproachCommandOptions& options) {
   std::printf("  %-36s", "reached / grasp check ok / collided");
   for (int s = 1; s <= 3; ++s) std::printf("  %2d / %2d / %2d      ", reached[s], grasp_ok[s], collided[s]);
   std::printf("\n");
+  if (wrong[1] + wrong[2] + wrong[3] > 0) {
+    std::printf("  %-36s", "approached another object than the task's");
+    for (int s = 1; s <= 3; ++s) std::printf("  %2d                ", wrong[s]);
+    std::printf("\n");
+  }
   for (int s = 1; s <= 3; ++s) {
     nlohmann::json& j = json["scenarios"][std::to_string(s)];
     j["median_pregrasp_position_error_m"] = Percentile(position[s], 0.5);
     j["grasp_ok"] = grasp_ok[s];
     j["collided"] = collided[s];
+    j["wrong_object"] = wrong[s];
   }
   if (!options.json.empty()) {
     std::ofstream out(options.json);
@@ -285,6 +337,10 @@ int RunApproach(const ApproachCommandOptions& options) {
     WritePlots(options.plots, first);
     std::printf("  wrote %s_estimate.svg, %s_truth.svg, %s_approach.svg (seed %d)\n", options.plots.c_str(), options.plots.c_str(),
                 options.plots.c_str(), options.run.seed);
+  }
+  if (trace) {
+    WriteTrace(options.trace, *trace, runs);
+    std::printf("  wrote %s\n", options.trace.c_str());
   }
   std::vector<double> perception, estimation, control;
   for (const ApproachRun& r : runs) {

@@ -99,6 +99,10 @@ int main(int argc, char** argv) {
   approach_cmd->add_option("--config", approach.run.config, "Settings (YAML): humanoid, planner, grasp, mission")->capture_default_str();
   approach_cmd->add_option("--patterns", approach.run.patterns, "Object graph patterns (YAML)")->capture_default_str();
   approach_cmd->add_option("--target", approach.run.target, "Class of the object to approach")->capture_default_str();
+  approach_cmd->add_option("--target-size", approach.run.target_size,
+                           "Size of the object to approach: its two horizontal extents and height [m] (default: the "
+                           "scene's task object's, else any size)")
+      ->expected(3);
   approach_cmd->add_option("--start", approach.run.start, "Start pose: x y [m] heading [deg]")->expected(3);
   approach_cmd->add_option("--rate", approach.run.rate, "Camera frame rate [Hz]")->capture_default_str();
   approach_cmd->add_option("--move-object-at", approach.run.move_object_at, "Move the target in the scene at this time [s]");
@@ -114,6 +118,9 @@ int main(int argc, char** argv) {
   approach_cmd->add_option("--report", approach.report,
                            "Write the run as a self-contained HTML page: 3-D map, paths, footsteps, control points, plots");
   approach_cmd->add_option("--map", approach.map, "Write the run's final map here (map.json format)");
+  approach_cmd->add_option("--trace", approach.trace,
+                           "Write every camera frame as CSV here: tracking status and counts, the tracked and smoothed "
+                           "base pose against the truth (with --table: every run, by scenario and seed)");
 
   planemap::StudyOptions study;
   CLI::App* study_cmd = app.add_subcommand(

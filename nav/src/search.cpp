@@ -12,12 +12,11 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-// Whether a landmark is a face of an object classified as neither the target nor unknown, with
-// its height measured: a class told apart by height (a box from a locker) is not decided while
-// the object's top is unseen.
-bool ExplainedByOtherClass(const PlaneMap& map, int landmark, const std::string& target_label) {
+// Whether a landmark is a face of an object the map's measurements rule out as the target
+// (another class with its height measured, or another size: nav/target.h).
+bool ExplainedAsNotTheTarget(const PlaneMap& map, int landmark, const TargetDescription& target) {
   for (const MapObject& o : map.objects) {
-    if (o.label == target_label || o.label == "unknown" || !o.dimension_complete[2]) continue;
+    if (!RuledOut(o, target)) continue;
     if (std::find(o.landmarks.begin(), o.landmarks.end(), landmark) != o.landmarks.end()) return true;
   }
   return false;
@@ -59,14 +58,14 @@ bool OnSeenFloor(const PlaneMap& map, const Eigen::Vector2d& p, double radius) {
 }  // namespace
 
 std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot,
-                                              const SearchConfig& config, const std::string& target_label) {
+                                              const SearchConfig& config, const TargetDescription& target) {
   std::vector<SearchCandidate> candidates;
   const int floor = map.Floor();
   const double max_vertical = std::sin(config.candidate_vertical_tolerance_deg * kDeg);
   for (const PlaneLandmark& l : map.landmarks) {
     if (l.id == floor || l.points.empty() || l.observations < config.candidate_min_observations) continue;
     if (std::abs(l.plane.normal.z()) > max_vertical) continue;
-    if (ExplainedByOtherClass(map, l.id, target_label)) continue;
+    if (ExplainedAsNotTheTarget(map, l.id, target)) continue;
     const Eigen::Vector2d n = l.plane.normal.head<2>().normalized();
     const Eigen::Vector2d along(-n.y(), n.x());  // the face's horizontal direction
     double low = std::numeric_limits<double>::infinity(), high = -low, top = -low;
@@ -202,14 +201,14 @@ Search::Search(const SearchConfig& config, const MissionConfig& mission, const P
 
 Search::~Search() = default;
 
-bool Search::Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label,
+bool Search::Next(const PlaneMap& map, const Pose2& estimate, const TargetDescription& target,
                   std::string* reason) {
   const int walks = static_cast<int>(viewpoints_.size()) - turns_;  // turns are not walked to
   if (walks >= config_.views_max) {
     *reason = "looked again from " + std::to_string(walks) + " viewpoints (search.views_max)";
     return false;
   }
-  const std::vector<SearchCandidate> candidates = SearchCandidates(map, estimate, config_, target_label);
+  const std::vector<SearchCandidate> candidates = SearchCandidates(map, estimate, config_, target);
   int fresh = 0;
   std::string last_failure;
   for (const SearchCandidate& c : candidates) {

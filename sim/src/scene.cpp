@@ -1,5 +1,6 @@
 #include "planemap/sim/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -23,6 +24,15 @@ struct FloorSpec {
     v("center", center);
     v("size", size, Check::kPositive);
     v("color", color, Check::kNonNegative);
+  }
+};
+
+// What the robot in the scene is sent to fetch (the approach): one of its objects, by name.
+struct TaskSpec {
+  std::string object;
+  template <class V>
+  void VisitFields(V&& v) {
+    v("object", object);
   }
 };
 
@@ -384,6 +394,8 @@ Scene ParseScene(const YAML::Node& root, const std::string& file) {
   FloorSpec floor;
   reader("name", scene.name);
   reader("floor", floor);
+  TaskSpec task;
+  reader("task", task);
   const YAML::Node walls = reader.TakeList("walls");
   const YAML::Node objects = reader.TakeList("objects");
   const YAML::Node markers = reader.TakeList("markers");
@@ -402,6 +414,16 @@ Scene ParseScene(const YAML::Node& root, const std::string& file) {
   for (size_t i = 0; markers && i < markers.size(); ++i) {
     const std::string where = "markers[" + std::to_string(i) + "]";
     builder.AddMarker(ReadItem<MarkerSpec>(markers[i], file, where), config_detail::LineOf(markers[i]), where);
+  }
+  if (!task.object.empty()) {
+    const auto named = [&](const SceneObject& o) { return o.name == task.object; };
+    const auto it = std::find_if(scene.objects.begin(), scene.objects.end(), named);
+    if (it == scene.objects.end())
+      ThrowInputError(file, config_detail::LineOf(root["task"]), "task.object: no object named '" + task.object + "'");
+    if (it->type != "box")
+      ThrowInputError(file, config_detail::LineOf(root["task"]),
+                      "task.object: '" + task.object + "' is a " + it->type + "; the robot is sent for a box");
+    scene.task_object = task.object;
   }
   return scene;
 }

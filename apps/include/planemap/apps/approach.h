@@ -25,7 +25,9 @@ struct ApproachOptions {
   std::string patterns = "configs/patterns.yaml";
   int scenario = 3;                           // 1 open loop, 2 path feedback, 3 object approach
   int seed = 1;                               // walking noise and sensor noise
-  std::string target = "box";                 // the class of the object to approach
+  std::string target = "box";                 // the class of the object to approach ...
+  std::vector<double> target_size;            // ... and its size: horizontal extents, height [m]
+                                              // (empty: the scene's task object's, else any)
   std::vector<double> start{0.0, 0.0, 0.0};   // the robot's start: x y [m] heading [deg]
   double rate = 30.0;                         // camera frames per second [Hz]
   double look_time = 0.5;                     // standing at the start before planning [s] ...
@@ -53,11 +55,28 @@ struct GaitCalibration {
   double scale_true = 0.0, lateral_true = 0.0;
 };
 
+// One camera frame of a run, for `planemap approach --trace`: what the tracker made of it, the
+// smoothed base pose the controllers read, and where the robot really was.
+struct ApproachFrame {
+  double time = 0.0;           // [s]
+  std::string phase;           // look (standing, no plan), search, path, approach
+  std::string status;          // tracked, degraded, lost, dropped
+  int planes = 0, matched = 0, inliers = 0, added = 0;  // TrackResult's counts
+  bool refined = false;
+  bool has_estimate = false;   // a smoothed base pose (not lost or dropped)
+  nav::Pose2 tracked;          // the tracker's base pose (before the sliding window)
+  nav::Pose2 estimate;         // the smoothed base pose
+  nav::Pose2 truth;            // the true base pose
+  std::string reason;          // why degraded or lost
+};
+
 struct ApproachRun {
   int scenario = 0, seed = 0;
   bool planned = false;
   nav::MissionStatus status;
   std::string target;                   // the scene object approached
+  std::string intended;                 // the scene's task object (empty: none named); the run is
+                                        // scored against it, and approaching another is a failure
   std::vector<nav::Viewpoint> viewpoints;  // where it looked again before the target was mapped
   std::vector<ApproachStop> stops;
   double average_error = 0.0;           // mean of truth_to_path over the stops [m]
@@ -82,7 +101,13 @@ struct ApproachRun {
   std::vector<nav::Pose2> reference, truth_path, estimate_path;
   nav::Pose2 pregrasp_true, pregrasp_planned;
   std::vector<nav::Footstep> footsteps;  // where the feet really landed
+  std::vector<ApproachFrame> trace;      // every camera frame
   PlaneMap map;                          // the tracker's map at the end
+
+  // Approached another object than the scene's task names.
+  bool WrongObject() const { return planned && !intended.empty() && target != intended; }
+  // Ended at the pre-grasp pose of the object it was sent for.
+  bool Reached() const { return status.Reached() && !WrongObject(); }
 };
 
 // What a run reads from files (scene, camera, settings, patterns), loaded and checked once: a

@@ -90,6 +90,7 @@ struct ApproachCommandOptions {
   std::string plots;    // Fig. 8 as SVG files with this path prefix; empty: none
   std::string report;   // a single run as a self-contained HTML page; empty: none
   std::string map;      // a single run's final map as map.json; empty: none
+  std::string trace;    // every frame of every run as CSV (pose estimate against the truth); empty: none
 };
 
 int RunApproach(const ApproachCommandOptions& options);

@@ -11,9 +11,9 @@
 // A candidate face: vertical, at least candidate_min_observations frames, no taller (its top
 // above the floor) than candidate_max_height, between candidate_min_width and candidate_max_width
 // wide, not in the plane of a taller landmark it touches (a wall's bottom strip), and not a face
-// of an object classified as something other than the target or unknown with its height
-// measured (a locker's door is no box; two faces on the floor with their top unseen may be
-// one). Walls, furniture tops and the floor never are. The caller may add the latest frame's
+// of an object the map rules out (nav/target.h: classified as something other than the target
+// or unknown with its height measured, a locker's door is no box, while two faces on the floor
+// with their top unseen may be one; or measured at another size than the target's). Walls, furniture tops and the floor never are. The caller may add the latest frame's
 // planes as landmarks: a face too far or too uncertain for the tracker to map (`planemap
 // approach` does).
 //
@@ -43,6 +43,7 @@
 #include "planemap/nav/mission.h"
 #include "planemap/nav/planner.h"
 #include "planemap/nav/pose2.h"
+#include "planemap/nav/target.h"
 
 namespace planemap::nav {
 
@@ -60,6 +61,9 @@ struct SearchConfig {
   // A mapped object of the target's class is a target once seen in this many frames (one view
   // of a wall 5 m away can make a "box") [-]
   int target_min_observations = 3;
+  // A mapped object measured this far off the size the task gives (nav/target.h) is not the
+  // target, nor are its faces candidates [m]
+  double target_size_tolerance = 0.05;
   double candidate_vertical_tolerance_deg = 10.0;  // its normal this close to horizontal [deg]
   // A face in the plane of a taller landmark it touches (normals this close, its centroid this
   // near that plane) is a strip of a wall, not a candidate [deg, m]
@@ -89,6 +93,7 @@ struct SearchConfig {
     v("candidate_min_width", candidate_min_width, Check::kNonNegative);
     v("candidate_min_observations", candidate_min_observations, Check::kNonNegative);
     v("target_min_observations", target_min_observations, Check::kPositive);
+    v("target_size_tolerance", target_size_tolerance, Check::kPositive);
     v("candidate_vertical_tolerance_deg", candidate_vertical_tolerance_deg, Check::kNonNegative);
     v("coplanar_angle_deg", coplanar_angle_deg, Check::kNonNegative);
     v("coplanar_distance", coplanar_distance, Check::kNonNegative);
@@ -114,9 +119,9 @@ struct SearchCandidate {
   double distance = 0.0;                              // from the robot [m]
 };
 
-// The map's candidate faces for a target of class `target_label`, nearest to `robot` first.
+// The map's candidate faces for the target, nearest to `robot` first.
 std::vector<SearchCandidate> SearchCandidates(const PlaneMap& map, const Pose2& robot,
-                                              const SearchConfig& config, const std::string& target_label);
+                                              const SearchConfig& config, const TargetDescription& target);
 
 // A view to explore from: where to stand and look, and how much floor not seen yet it takes in.
 struct ExploreView {
@@ -149,7 +154,7 @@ class Search {
   // side is free and nearer; with none left, the best exploring view (config.explore); with none
   // of those, a turn on the spot (config.turns_max). False, with the reason, when none is left or
   // views_max walks are used.
-  bool Next(const PlaneMap& map, const Pose2& estimate, const std::string& target_label, std::string* reason);
+  bool Next(const PlaneMap& map, const Pose2& estimate, const TargetDescription& target, std::string* reason);
   // Every camera frame while Walking(): drives the walk with path feedback, or waits for the
   // turn to end and the robot to settle.
   void Update(double time, const std::optional<Pose2>& estimate);

@@ -72,6 +72,10 @@ struct Scene {
   std::vector<size_t> flat_surfaces;    // floor and walls: rectangles not part of a cuboid
   std::vector<SceneObject> objects;
   std::vector<Marker> markers;
+  // The object the robot is sent to fetch (`task: {object: NAME}`, a box), empty when the scene
+  // names none: `planemap approach` then tells the robot its class and size, and scores the run
+  // against it whatever the robot approached.
+  std::string task_object;
 
   const Surface& surface(std::uint16_t label) const { return surfaces.at(label - 1); }
   // The object with this name; throws std::out_of_range if there is none.
