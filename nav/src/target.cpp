@@ -34,10 +34,6 @@ std::string SizeConflict(const MapObject& object, const TargetDescription& targe
   return text;
 }
 
-bool MatchesTarget(const MapObject& object, const TargetDescription& target) {
-  return object.label == target.label && SizeConflict(object, target).empty();
-}
-
 bool RuledOut(const MapObject& object, const TargetDescription& target) {
   if (object.label != target.label && object.label != "unknown" && object.dimension_complete[2]) return true;
   return !SizeConflict(object, target).empty();

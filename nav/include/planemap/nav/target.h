@@ -24,9 +24,6 @@ struct TargetDescription {
 // are compared in either order. Always empty without a size.
 std::string SizeConflict(const MapObject& object, const TargetDescription& target);
 
-// Whether the object is of the target's class and size.
-bool MatchesTarget(const MapObject& object, const TargetDescription& target);
-
 // Whether the map's measurements rule the object out: another class (not unknown) with its height
 // measured (a class told apart by height, a box from a locker, is not decided while the top is
 // unseen), or a size conflict.
