@@ -74,13 +74,6 @@ MapObject TrueObject(const sim::SceneObject& o, const Eigen::Vector3d& estimated
   return m;
 }
 
-// Every object's footprint on the floor, for the collision check.
-std::vector<std::pair<std::string, nav::Footprint>> Footprints(const sim::Scene& scene) {
-  std::vector<std::pair<std::string, nav::Footprint>> footprints;
-  for (const sim::SceneObject& o : scene.objects) footprints.emplace_back(o.name, nav::FootprintOf(TrueObject(o, Eigen::Vector3d::UnitX())));
-  return footprints;
-}
-
 // The mapped objects of the target's class and size (nav/target.h) seen in min_observations
 // frames or more that the arms could grasp from their pre-grasp pose (as Mission::Plan checks
 // it), the most seen first. `ungraspable`: how many could not be, and why the last could not;
@@ -152,6 +145,30 @@ PlaneMap WithFacesInView(PlaneMap map, const FrameModel& model, const Cloud& clo
 
 }  // namespace
 
+// A humanoid walks under a table's top between its legs
+// (the planner, whose obstacles end at planner.max_obstacle_height, plans such paths), so the
+// object's bounding box would count a collision where there is none.
+std::vector<std::pair<std::string, nav::Footprint>> CollisionFootprints(const sim::Scene& scene, double body_height) {
+  std::vector<std::pair<std::string, nav::Footprint>> footprints;
+  for (const sim::SceneObject& o : scene.objects) {
+    if (o.cuboids.empty()) {
+      footprints.emplace_back(o.name, nav::FootprintOf(TrueObject(o, Eigen::Vector3d::UnitX())));
+      continue;
+    }
+    for (size_t index : o.cuboids) {
+      const sim::Cuboid& c = scene.cuboids.at(index);
+      const double underside = c.T_world_box.translation().z() - 0.5 * c.T_world_box.linear().row(2).cwiseAbs().dot(c.dimensions);
+      if (underside >= body_height) continue;
+      MapObject part;
+      part.center = c.T_world_box.translation();
+      part.axes = c.T_world_box.linear();
+      part.dimensions = c.dimensions;
+      footprints.emplace_back(o.name, nav::FootprintOf(part));
+    }
+  }
+  return footprints;
+}
+
 struct ApproachInputs {
   std::string scene_file;
   YAML::Node scene_yaml;  // the file's contents, for moving an object
@@ -220,7 +237,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   run.scenario = options.scenario;
   run.seed = options.seed;
   const sim::SceneObject* target_truth = nullptr;
-  std::vector<std::pair<std::string, nav::Footprint>> footprints = Footprints(scene);
+  std::vector<std::pair<std::string, nav::Footprint>> footprints = CollisionFootprints(scene, options.body_height);
   sim::Scene moved_scene;
   bool moved = false;
   int target = -1;
@@ -239,7 +256,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
           MovedScene(inputs.scene_yaml, inputs.scene_file, target_truth->name, options.move_object_by);
       moved_sensor = std::make_unique<sim::VirtualCamera>(moved_scene, camera, config.render);
       target_truth = &moved_scene.object(target_truth->name);
-      footprints = Footprints(moved_scene);
+      footprints = CollisionFootprints(moved_scene, options.body_height);
       moved = true;
     }
     const bool dropped = options.drop_at >= 0.0 && t >= options.drop_at && t < options.drop_at + options.drop_duration;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace planemap::sim {
 namespace {
@@ -17,31 +19,49 @@ std::uint64_t Mix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-// Pixel rectangle [u0, u1] x [v0, v1] that can see a primitive with the given world corners, or
-// the whole image when a corner lies behind the camera (no safe projection).
+// Pixel rectangle [u0, u1] x [v0, v1] (empty when u0 > u1) that can see a convex primitive with
+// the given world corners and edges (pairs of corner indices). Clipped at a near plane first: the
+// part in front of the camera is spanned by the corners in front and the points where edges cross
+// the near plane, so a wall behind the camera costs nothing and one beside it only its pixels.
 struct PixelBox {
   int u0, u1, v0, v1;
 };
 
-PixelBox ProjectBounds(const std::vector<Eigen::Vector3d>& corners_world, const Pose3& T_camera_world,
-                       const CameraIntrinsics& camera) {
-  const PixelBox full{0, camera.width - 1, 0, camera.height - 1};
+PixelBox ProjectBounds(const std::vector<Eigen::Vector3d>& corners_world, const std::vector<std::pair<int, int>>& edges,
+                       const Pose3& T_camera_world, const CameraIntrinsics& camera) {
+  // Any hit nearer than this is far below the sensor's range; projections stay finite.
+  constexpr double kNear = 1e-9;
+  std::vector<Eigen::Vector3d> corners;
+  for (const Eigen::Vector3d& p_w : corners_world) corners.push_back(T_camera_world * p_w);
   double umin = kNoHit, vmin = kNoHit, umax = -kNoHit, vmax = -kNoHit;
-  for (const Eigen::Vector3d& p_w : corners_world) {
-    const Eigen::Vector3d p = T_camera_world * p_w;
-    if (p.z() < 1e-3) return full;
+  auto extend = [&](const Eigen::Vector3d& p) {
     const Eigen::Vector2d uv = camera.Project(p);
     umin = std::min(umin, uv.x()); umax = std::max(umax, uv.x());
     vmin = std::min(vmin, uv.y()); vmax = std::max(vmax, uv.y());
+  };
+  for (const Eigen::Vector3d& p : corners) {
+    if (p.z() >= kNear) extend(p);
   }
-  // One pixel of margin: the ray test itself decides, the box only skips pixels.
-  PixelBox box{static_cast<int>(std::floor(umin)) - 1, static_cast<int>(std::ceil(umax)) + 1,
-               static_cast<int>(std::floor(vmin)) - 1, static_cast<int>(std::ceil(vmax)) + 1};
-  box.u0 = std::max(box.u0, 0); box.v0 = std::max(box.v0, 0);
-  box.u1 = std::min(box.u1, camera.width - 1); box.v1 = std::min(box.v1, camera.height - 1);
-  return box;
+  for (const auto& [i, j] : edges) {
+    const Eigen::Vector3d &a = corners[i], &b = corners[j];
+    if ((a.z() < kNear) == (b.z() < kNear)) continue;
+    const double s = (kNear - a.z()) / (b.z() - a.z());
+    Eigen::Vector3d p = a + s * (b - a);
+    p.z() = kNear;
+    extend(p);
+  }
+  if (umin > umax) return {0, -1, 0, -1};  // wholly behind the camera
+  // One pixel of margin: the ray test itself decides, the box only skips pixels. Clamped in
+  // floating point first: near the near plane the projections are huge.
+  auto clamp = [](double x, int lo, int hi) {
+    return static_cast<int>(std::clamp(x, static_cast<double>(lo), static_cast<double>(hi)));
+  };
+  return {clamp(std::floor(umin) - 1, 0, camera.width - 1), clamp(std::ceil(umax) + 1, 0, camera.width - 1),
+          clamp(std::floor(vmin) - 1, 0, camera.height - 1), clamp(std::ceil(vmax) + 1, 0, camera.height - 1)};
 }
 
+// Corner i of a cuboid has coordinate sign bit k along its axis k; an edge joins two corners one
+// bit apart.
 std::vector<Eigen::Vector3d> CuboidCorners(const Cuboid& c) {
   std::vector<Eigen::Vector3d> corners;
   for (int i = 0; i < 8; ++i) {
@@ -51,6 +71,20 @@ std::vector<Eigen::Vector3d> CuboidCorners(const Cuboid& c) {
   return corners;
 }
 
+const std::vector<std::pair<int, int>>& CuboidEdges() {
+  static const std::vector<std::pair<int, int>> edges = [] {
+    std::vector<std::pair<int, int>> e;
+    for (int i = 0; i < 8; ++i) {
+      for (int bit : {1, 2, 4}) {
+        if (!(i & bit)) e.emplace_back(i, i | bit);
+      }
+    }
+    return e;
+  }();
+  return edges;
+}
+
+// Corners of a rectangle in the order (-u -v), (-u +v), (+u -v), (+u +v), and its four edges.
 std::vector<Eigen::Vector3d> SurfaceCorners(const Surface& s) {
   std::vector<Eigen::Vector3d> corners;
   for (double a : {-1.0, 1.0}) {
@@ -58,6 +92,8 @@ std::vector<Eigen::Vector3d> SurfaceCorners(const Surface& s) {
   }
   return corners;
 }
+
+const std::vector<std::pair<int, int>> kRectangleEdges = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};
 
 // Slab test of a ray against a cuboid. Returns the ray parameter of the entry point and the face
 // it enters through (kFaceNames order), or kNoHit. Rays starting inside the box see nothing of it.
@@ -114,26 +150,36 @@ VirtualCamera::RayCast VirtualCamera::Cast(const Pose3& T_world_camera) const {
   std::vector<double> best(static_cast<size_t>(w) * h, kNoHit);
   LabelImage labels(w, h, 0);
 
-  // Floor and walls: rectangles.
+  // Floor and walls: rectangles. Each pixel's ray in the world, computed once for all of them.
+  std::vector<Eigen::Vector3d> dirs(static_cast<size_t>(w) * h);
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) dirs[static_cast<size_t>(v) * w + u] = R_wc * camera_.Ray(u, v);
+  }
   for (size_t index : scene_.flat_surfaces) {
     const Surface& s = scene_.surfaces[index];
-    const PixelBox box = ProjectBounds(SurfaceCorners(s), T_camera_world, camera_);
+    const PixelBox box = ProjectBounds(SurfaceCorners(s), kRectangleEdges, T_camera_world, camera_);
+    const Plane& plane = s.plane_world;
+    const double origin_distance = plane.SignedDistance(origin);
 #pragma omp parallel for schedule(static)
     for (int v = box.v0; v <= box.v1; ++v) {
       for (int u = box.u0; u <= box.u1; ++u) {
-        const Eigen::Vector3d dir = R_wc * camera_.Ray(u, v);
-        const std::optional<double> t = s.plane_world.IntersectRay(origin, dir);
-        if (!t || *t <= 0.0) continue;
-        const Eigen::Vector3d local = origin + *t * dir - s.center_world;
-        if (std::abs(local.dot(s.axis_u)) > s.half_u || std::abs(local.dot(s.axis_v)) > s.half_v) continue;
         const size_t i = static_cast<size_t>(v) * w + u;
-        if (*t < best[i]) { best[i] = *t; labels.at(u, v) = s.label; }
+        const Eigen::Vector3d& dir = dirs[i];
+        // Plane::IntersectRay, inline: no hit for rays parallel to the plane or leaving it.
+        const double denom = plane.normal.dot(dir);
+        if (std::abs(denom) < 1e-12) continue;
+        const double t = -origin_distance / denom;
+        if (t <= 0.0) continue;
+        const Eigen::Vector3d local = origin + t * dir - s.center_world;
+        if (std::abs(local.dot(s.axis_u)) > s.half_u || std::abs(local.dot(s.axis_v)) > s.half_v) continue;
+        if (t < best[i]) { best[i] = t; labels.at(u, v) = s.label; }
       }
     }
   }
   // Boxes: slab test in each box's frame.
   for (const Cuboid& c : scene_.cuboids) {
-    const PixelBox box = ProjectBounds(CuboidCorners(c), T_camera_world, camera_);
+    const PixelBox box = ProjectBounds(CuboidCorners(c), CuboidEdges(), T_camera_world, camera_);
     const Pose3 T_box_world = c.T_world_box.inverse();
     const Eigen::Vector3d origin_box = T_box_world * origin;
     const Eigen::Matrix3d R_box_camera = T_box_world.linear() * R_wc;
@@ -148,6 +194,9 @@ VirtualCamera::RayCast VirtualCamera::Cast(const Pose3& T_world_camera) const {
     }
   }
 
+  // Each surface's normal in the camera, once per frame.
+  std::vector<Eigen::Vector3d> normals_camera(scene_.surfaces.size() + 1, Eigen::Vector3d::Zero());
+  for (const Surface& s : scene_.surfaces) normals_camera[s.label] = R_wc.transpose() * s.plane_world.normal;
   RayCast cast{{DepthImage(w, h, 0.0f), Image<float>(w, h, 0.0f)}, std::move(labels)};
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < h; ++v) {
@@ -155,7 +204,7 @@ VirtualCamera::RayCast VirtualCamera::Cast(const Pose3& T_world_camera) const {
       const size_t i = static_cast<size_t>(v) * w + u;
       if (best[i] == kNoHit) continue;
       const Eigen::Vector3d ray = camera_.Ray(u, v);
-      const Eigen::Vector3d n_c = R_wc.transpose() * scene_.surface(cast.labels.at(u, v)).plane_world.normal;
+      const Eigen::Vector3d& n_c = normals_camera.at(cast.labels.at(u, v));
       cast.exact.depth.at(u, v) = static_cast<float>(best[i]);
       cast.exact.incidence.at(u, v) = static_cast<float>(std::acos(std::min(1.0, std::abs(n_c.dot(ray)) / ray.norm())));
     }
@@ -163,38 +212,41 @@ VirtualCamera::RayCast VirtualCamera::Cast(const Pose3& T_world_camera) const {
   return cast;
 }
 
-namespace {
-
-// Colour of a surface point: flat face colour (or a marker module) under ambient plus Lambertian
-// light, so faces of one box differ in brightness as in a real image.
-Rgb8 Shade(const Scene& scene, const Surface& s, const Eigen::Vector3d& p_world,
-           const Eigen::Vector3d& light_world, double ambient) {
-  Rgb8 base = s.color;
-  for (const Marker& m : scene.markers) {
-    if (m.surface != s.label) continue;
-    const Eigen::Vector3d local = p_world - m.center_world;
-    const double x = local.dot(m.axis_u) / m.size + 0.5, y = local.dot(m.axis_v) / m.size + 0.5;
-    if (x < 0.0 || x >= 1.0 || y < 0.0 || y >= 1.0) continue;
-    const std::uint8_t bit = m.bits.at(static_cast<int>(x * m.bits.width()), static_cast<int>(y * m.bits.height()));
-    base = {bit, bit, bit};
-  }
-  const double light = ambient + (1.0 - ambient) * std::abs(s.plane_world.normal.dot(light_world));
-  Rgb8 c;
-  for (int k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>(std::lround(base[k] * light));
-  return c;
-}
-
-}  // namespace
-
 ColorImage VirtualCamera::ShadeColor(const RayCast& cast, const Pose3& T_world_camera) const {
+  // Flat face colour (or a marker module's grey) under ambient plus Lambertian light, so faces of
+  // one box differ in brightness as in a real image. Each surface's colour is shaded once per
+  // frame; only pixels of a surface with markers need their point, to see whether a marker's
+  // module covers it (the last marker listed that covers it wins).
+  const size_t labels = scene_.surfaces.size() + 1;
+  std::vector<std::vector<const Marker*>> markers_on(labels);
+  for (const Marker& m : scene_.markers) {
+    if (m.surface >= 1 && m.surface < labels) markers_on[m.surface].push_back(&m);
+  }
+  std::vector<Rgb8> flat(labels, Rgb8{0, 0, 0});
+  std::vector<double> light(labels, 0.0);
+  for (const Surface& s : scene_.surfaces) {
+    light[s.label] = config_.ambient + (1.0 - config_.ambient) * std::abs(s.plane_world.normal.dot(light_world_));
+    for (int k = 0; k < 3; ++k) flat[s.label][k] = static_cast<std::uint8_t>(std::lround(s.color[k] * light[s.label]));
+  }
   ColorImage color(camera_.width, camera_.height, Rgb8{0, 0, 0});
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < camera_.height; ++v) {
     for (int u = 0; u < camera_.width; ++u) {
       const std::uint16_t label = cast.labels.at(u, v);
       if (label == 0) continue;
+      color.at(u, v) = flat[label];
+      if (markers_on[label].empty()) continue;
       const Eigen::Vector3d p_world = T_world_camera * (cast.exact.depth.at(u, v) * camera_.Ray(u, v));
-      color.at(u, v) = Shade(scene_, scene_.surface(label), p_world, light_world_, config_.ambient);
+      const std::uint8_t* module = nullptr;
+      for (const Marker* m : markers_on[label]) {
+        const Eigen::Vector3d local = p_world - m->center_world;
+        const double x = local.dot(m->axis_u) / m->size + 0.5, y = local.dot(m->axis_v) / m->size + 0.5;
+        if (x < 0.0 || x >= 1.0 || y < 0.0 || y >= 1.0) continue;
+        module = &m->bits.at(static_cast<int>(x * m->bits.width()), static_cast<int>(y * m->bits.height()));
+      }
+      if (!module) continue;
+      const std::uint8_t grey = static_cast<std::uint8_t>(std::lround(*module * light[label]));
+      color.at(u, v) = Rgb8{grey, grey, grey};
     }
   }
   return color;

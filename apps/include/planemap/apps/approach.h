@@ -6,12 +6,14 @@
 // commands the next walk. Ground truth (the robot's true pose, the scene's box) only scores it.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "planemap/core/plane_map.h"
 #include "planemap/nav/mission.h"
+#include "planemap/nav/planner.h"
 #include "planemap/nav/search.h"
 #include "planemap/nav/pose2.h"
 #include "planemap/nav/simulated_humanoid.h"
@@ -35,6 +37,8 @@ struct ApproachOptions {
                                               // then looks again from viewpoints (config search:) [s]
   double max_time = 240.0;                    // the run ends here whatever happens [s]
   double body_radius = 0.08;                  // the robot's true footprint, for collisions [m]
+  double body_height = 0.58;                  // the robot's true height (Nao: 0.574 m), for collisions:
+                                              // a part whose underside is above it (a table's top) is walked under [m]
   double move_object_at = -1.0;               // move the target in the scene at this time [s] (< 0: never)
   std::vector<double> move_object_by{0.10, 0.05, 10.0};  // by dx dy [m] dyaw [deg] in the world
   double drop_at = -1.0;                      // frames are lost from this time [s] (< 0: never) ...
@@ -121,5 +125,13 @@ std::shared_ptr<const ApproachInputs> LoadApproachInputs(const ApproachOptions& 
 ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs& inputs);
 // The same, loading the inputs first.
 ApproachRun RunApproachOnce(const ApproachOptions& options);
+
+namespace sim {
+struct Scene;
+}
+// What the collision check holds the robot's true footprint (a disc of body_radius) against:
+// the floor footprint of every part (cuboid) of every object whose underside is below
+// `body_height` [m], by object name. A table's top above the robot is walked under, its legs not.
+std::vector<std::pair<std::string, nav::Footprint>> CollisionFootprints(const sim::Scene& scene, double body_height);
 
 }  // namespace planemap
