@@ -151,10 +151,6 @@ PlaneMap WithFacesInView(PlaneMap map, const FrameModel& model, const Cloud& clo
 std::vector<std::pair<std::string, nav::Footprint>> CollisionFootprints(const sim::Scene& scene, double body_height) {
   std::vector<std::pair<std::string, nav::Footprint>> footprints;
   for (const sim::SceneObject& o : scene.objects) {
-    if (o.cuboids.empty()) {
-      footprints.emplace_back(o.name, nav::FootprintOf(TrueObject(o, Eigen::Vector3d::UnitX())));
-      continue;
-    }
     for (size_t index : o.cuboids) {
       const sim::Cuboid& c = scene.cuboids.at(index);
       const double underside = c.T_world_box.translation().z() - 0.5 * c.T_world_box.linear().row(2).cwiseAbs().dot(c.dimensions);

@@ -14,15 +14,6 @@ Plane Plane::FromPointNormal(const Eigen::Vector3d& point, const Eigen::Vector3d
   return {n, -n.dot(point)};
 }
 
-std::optional<double> Plane::IntersectRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                                          double parallel_eps) const {
-  const double denom = normal.dot(dir);
-  if (std::abs(denom) < parallel_eps) return std::nullopt;
-  const double t = -SignedDistance(origin) / denom;
-  if (t < 0.0) return std::nullopt;
-  return t;
-}
-
 Plane TransformPlane(const Pose3& T_a_b, const Plane& plane_b) {
   const Eigen::Vector3d n_a = T_a_b.linear() * plane_b.normal;
   return {n_a, plane_b.offset - n_a.dot(T_a_b.translation())};

@@ -134,6 +134,20 @@ VirtualCamera::VirtualCamera(Scene scene, const CameraIntrinsics& camera, const 
     throw std::invalid_argument("render.light_direction needs 3 numbers, not all zero");
   }
   light_world_ = Eigen::Vector3d(config_.light_direction.data()).normalized();
+  // Flat face colour (or a marker module's grey) under ambient plus Lambertian light, so faces of
+  // one box differ in brightness as in a real image: per surface label, once.
+  const size_t labels = scene_.surfaces.size() + 1;
+  markers_on_.assign(labels, {});
+  for (size_t i = 0; i < scene_.markers.size(); ++i) {
+    const std::uint16_t surface = scene_.markers[i].surface;
+    if (surface >= 1 && surface < labels) markers_on_[surface].push_back(i);
+  }
+  shaded_.assign(labels, Rgb8{0, 0, 0});
+  light_.assign(labels, 0.0);
+  for (const Surface& s : scene_.surfaces) {
+    light_[s.label] = config_.ambient + (1.0 - config_.ambient) * std::abs(s.plane_world.normal.dot(light_world_));
+    for (int k = 0; k < 3; ++k) shaded_[s.label][k] = static_cast<std::uint8_t>(std::lround(s.color[k] * light_[s.label]));
+  }
 }
 
 std::uint64_t VirtualCamera::FrameSeed(int index) const {
@@ -159,21 +173,16 @@ VirtualCamera::RayCast VirtualCamera::Cast(const Pose3& T_world_camera) const {
   for (size_t index : scene_.flat_surfaces) {
     const Surface& s = scene_.surfaces[index];
     const PixelBox box = ProjectBounds(SurfaceCorners(s), kRectangleEdges, T_camera_world, camera_);
-    const Plane& plane = s.plane_world;
-    const double origin_distance = plane.SignedDistance(origin);
 #pragma omp parallel for schedule(static)
     for (int v = box.v0; v <= box.v1; ++v) {
       for (int u = box.u0; u <= box.u1; ++u) {
         const size_t i = static_cast<size_t>(v) * w + u;
         const Eigen::Vector3d& dir = dirs[i];
-        // Plane::IntersectRay, inline: no hit for rays parallel to the plane or leaving it.
-        const double denom = plane.normal.dot(dir);
-        if (std::abs(denom) < 1e-12) continue;
-        const double t = -origin_distance / denom;
-        if (t <= 0.0) continue;
-        const Eigen::Vector3d local = origin + t * dir - s.center_world;
+        const std::optional<double> t = s.plane_world.IntersectRay(origin, dir);
+        if (!t || *t <= 0.0) continue;
+        const Eigen::Vector3d local = origin + *t * dir - s.center_world;
         if (std::abs(local.dot(s.axis_u)) > s.half_u || std::abs(local.dot(s.axis_v)) > s.half_v) continue;
-        if (t < best[i]) { best[i] = t; labels.at(u, v) = s.label; }
+        if (*t < best[i]) { best[i] = *t; labels.at(u, v) = s.label; }
       }
     }
   }
@@ -213,39 +222,28 @@ VirtualCamera::RayCast VirtualCamera::Cast(const Pose3& T_world_camera) const {
 }
 
 ColorImage VirtualCamera::ShadeColor(const RayCast& cast, const Pose3& T_world_camera) const {
-  // Flat face colour (or a marker module's grey) under ambient plus Lambertian light, so faces of
-  // one box differ in brightness as in a real image. Each surface's colour is shaded once per
-  // frame; only pixels of a surface with markers need their point, to see whether a marker's
-  // module covers it (the last marker listed that covers it wins).
-  const size_t labels = scene_.surfaces.size() + 1;
-  std::vector<std::vector<const Marker*>> markers_on(labels);
-  for (const Marker& m : scene_.markers) {
-    if (m.surface >= 1 && m.surface < labels) markers_on[m.surface].push_back(&m);
-  }
-  std::vector<Rgb8> flat(labels, Rgb8{0, 0, 0});
-  std::vector<double> light(labels, 0.0);
-  for (const Surface& s : scene_.surfaces) {
-    light[s.label] = config_.ambient + (1.0 - config_.ambient) * std::abs(s.plane_world.normal.dot(light_world_));
-    for (int k = 0; k < 3; ++k) flat[s.label][k] = static_cast<std::uint8_t>(std::lround(s.color[k] * light[s.label]));
-  }
+  // Each surface's shaded colour comes from the constructor; only pixels of a surface with
+  // markers need their point, to see whether a marker's module covers it (the last marker listed
+  // that covers it wins).
   ColorImage color(camera_.width, camera_.height, Rgb8{0, 0, 0});
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < camera_.height; ++v) {
     for (int u = 0; u < camera_.width; ++u) {
       const std::uint16_t label = cast.labels.at(u, v);
       if (label == 0) continue;
-      color.at(u, v) = flat[label];
-      if (markers_on[label].empty()) continue;
+      color.at(u, v) = shaded_[label];
+      if (markers_on_[label].empty()) continue;
       const Eigen::Vector3d p_world = T_world_camera * (cast.exact.depth.at(u, v) * camera_.Ray(u, v));
       const std::uint8_t* module = nullptr;
-      for (const Marker* m : markers_on[label]) {
-        const Eigen::Vector3d local = p_world - m->center_world;
-        const double x = local.dot(m->axis_u) / m->size + 0.5, y = local.dot(m->axis_v) / m->size + 0.5;
+      for (size_t index : markers_on_[label]) {
+        const Marker& m = scene_.markers[index];
+        const Eigen::Vector3d local = p_world - m.center_world;
+        const double x = local.dot(m.axis_u) / m.size + 0.5, y = local.dot(m.axis_v) / m.size + 0.5;
         if (x < 0.0 || x >= 1.0 || y < 0.0 || y >= 1.0) continue;
-        module = &m->bits.at(static_cast<int>(x * m->bits.width()), static_cast<int>(y * m->bits.height()));
+        module = &m.bits.at(static_cast<int>(x * m.bits.width()), static_cast<int>(y * m.bits.height()));
       }
       if (!module) continue;
-      const std::uint8_t grey = static_cast<std::uint8_t>(std::lround(*module * light[label]));
+      const std::uint8_t grey = static_cast<std::uint8_t>(std::lround(*module * light_[label]));
       color.at(u, v) = Rgb8{grey, grey, grey};
     }
   }

@@ -1,5 +1,6 @@
 #pragma once
 // An infinite plane n.x + d = 0 with unit normal n (DESIGN.md conventions).
+#include <cmath>
 #include <optional>
 
 #include <Eigen/Core>
@@ -26,8 +27,15 @@ struct Plane {
 
   // Ray parameter t >= 0 with n.(origin + t dir) + d = 0, or nothing when the ray is parallel to
   // the plane (|n.dir| below `parallel_eps`) or the hit lies behind the origin.
+  // Inline: the renderer calls it for every pixel of every wall.
   std::optional<double> IntersectRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                                     double parallel_eps = 1e-12) const;
+                                     double parallel_eps = 1e-12) const {
+    const double denom = normal.dot(dir);
+    if (std::abs(denom) < parallel_eps) return std::nullopt;
+    const double t = -SignedDistance(origin) / denom;
+    if (t < 0.0) return std::nullopt;
+    return t;
+  }
 };
 
 // Moves a plane given in frame b into frame a: n_a = R_a_b n_b, d_a = d_b - n_a . t_a_b.

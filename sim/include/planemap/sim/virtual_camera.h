@@ -2,6 +2,7 @@
 // A virtual RGB-D camera: exact ray casting of a plane-based scene, then the sensor noise model.
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "planemap/core/config.h"
 #include "planemap/core/image.h"
@@ -63,6 +64,11 @@ class VirtualCamera {
   CameraIntrinsics camera_;
   RenderConfig config_;
   Eigen::Vector3d light_world_;
+  // Per surface label: the markers printed on it (indices into scene_.markers), its light factor
+  // and its shaded colour.
+  std::vector<std::vector<size_t>> markers_on_;
+  std::vector<double> light_;
+  std::vector<Rgb8> shaded_;
 };
 
 }  // namespace planemap::sim
