@@ -3,7 +3,8 @@
 added to check the navigation on unseen layouts is not placed by hand (configs/scenes/garage.yaml
 and studio.yaml: seeds 20261123 and 20261124; loft.yaml and atelier.yaml: 20261201 and 20261202,
 which also drew the obstacle's kind, a draw added after the first two; gallery.yaml and
-cellar.yaml: 20261203 and 20261204; pantry.yaml and foyer.yaml: 20261205 and 20261206). Usage:
+cellar.yaml: 20261203 and 20261204; pantry.yaml and foyer.yaml: 20261205 and 20261206;
+scullery.yaml and vestibule.yaml: 20261207 and 20261208). Usage:
 draw_scene_layout.py SEED"""
 import math
 import random

@@ -55,8 +55,8 @@ TEST(Scene, EveryShippedSceneLoadsWithABoxToGraspOnTheFloor) {
     // A room the robot is sent into names the box it is sent for (the office is a mapping scene).
     if (entry.path().stem() != "office") EXPECT_NE(scene.task_object, "");
   }
-  EXPECT_GE(scenes, 16);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier,
-                          // hideout, gallery, cellar, pantry, foyer
+  EXPECT_GE(scenes, 18);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier,
+                          // hideout, gallery, cellar, pantry, foyer, scullery, vestibule
 }
 
 TEST(Scene, SurfacesAreConsistentRectangles) {
