@@ -202,6 +202,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     for (const auto& [name, recall] : recall_) {
       std::printf("  %-28s %9.2f %11.1fx %8.3f\n", name.c_str(), ms_.at(name), ms_.at(name) / ms_.at("BM_Organized"), recall);
     }
+    if (!ms_.count("BM_Cloud") || !ms_.count("BM_Frontend")) return;  // left out by --benchmark_filter
     std::printf("  depth to cloud: %.2f ms/frame; "
                 "whole frontend (depth image to classified objects): %.2f ms/frame\n",
                 ms_.at("BM_Cloud"), ms_.at("BM_Frontend"));
