@@ -67,7 +67,7 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
               const OrganizedSegmenterConfig& c) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height), cs = cell_size;
   const int cw = (w + cs - 1) / cs, ch = (h + cs - 1) / cs;
-  auto point = [&](int u, int v) { return cloud.points[static_cast<size_t>(v) * w + u]; };
+  auto point = [&](int u, int v) -> const pcl::PointXYZRGB& { return cloud.points[static_cast<size_t>(v) * w + u]; };
   auto ok = [&](int u, int v) { return usable[static_cast<size_t>(v) * w + u] != 0; };
   Pass pass;
   pass.cs = cs;
@@ -222,7 +222,7 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
   const int cs = pass.cs, cw = pass.cw, ch = pass.ch;
   const std::vector<Cell>& cells = pass.cells;
   const std::vector<Region>& merged = pass.regions;
-  auto point = [&](int u, int v) { return cloud.points[static_cast<size_t>(v) * w + u]; };
+  auto point = [&](int u, int v) -> const pcl::PointXYZRGB& { return cloud.points[static_cast<size_t>(v) * w + u]; };
   std::vector<std::array<int, 9>> candidates(cells.size());
   std::vector<int> candidate_count(cells.size(), 0);
   for (int cy = 0; cy < ch; ++cy) {
@@ -240,38 +240,41 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
       }
     }
   }
+  // Row by row (so each plane's inliers come out sorted), a row's cells one after another.
   for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const int cell = (v / cs) * cw + u / cs;
+    const int cell_row = (v / cs) * cw;
+    const std::uint8_t* usable_row = &usable[static_cast<size_t>(v) * w];
+    for (int cx = 0; cx < cw; ++cx) {
+      const int cell = cell_row + cx;
       const int count = candidate_count[cell];
-      if (count == 0) {
-        u = std::min(w, (u / cs + 1) * cs) - 1;  // skip the rest of this cell's span
-        continue;
-      }
-      if (!usable[static_cast<size_t>(v) * w + u]) continue;
-      const auto& p = point(u, v);
-      const double x = p.x, y = p.y, z = p.z;
-      const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, z);
-      double best = limit;
-      int best_region = -1, close_planes = 0;
-      for (int k = 0; k < count; ++k) {
-        const QuickFit& f = merged[candidates[cell][k]].fit;
-        const double distance = std::abs(f.normal.x() * x + f.normal.y() * y + f.normal.z() * z + f.offset);
-        if (distance < limit) ++close_planes;
-        if (distance < best) {
-          best = distance;
-          best_region = candidates[cell][k];
+      if (count == 0) continue;
+      const int* candidate = candidates[cell].data();
+      for (int u = cx * cs, u_end = std::min(w, u + cs); u < u_end; ++u) {
+        if (!usable_row[u]) continue;
+        const auto& p = point(u, v);
+        const double x = p.x, y = p.y, z = p.z;
+        const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, z);
+        double best = limit;
+        int best_region = -1, close_planes = 0;
+        for (int k = 0; k < count; ++k) {
+          const QuickFit& f = merged[candidate[k]].fit;
+          const double distance = std::abs(f.normal.x() * x + f.normal.y() * y + f.normal.z() * z + f.offset);
+          if (distance < limit) ++close_planes;
+          if (distance < best) {
+            best = distance;
+            best_region = candidate[k];
+          }
         }
+        if (best_region < 0) continue;
+        (*inliers)[offset + best_region].push_back(v * w + u);
+        (*bounds)[offset + best_region].Extend(Eigen::Vector3d(x, y, z));
+        if (close_planes > 1) continue;
+        const double wt = DepthNoiseWeight(z);
+        auto& s = (*sums)[offset + best_region];
+        s[0] += wt; s[1] += wt * x; s[2] += wt * y; s[3] += wt * z;
+        s[4] += wt * x * x; s[5] += wt * x * y; s[6] += wt * x * z; s[7] += wt * y * y; s[8] += wt * y * z; s[9] += wt * z * z;
+        (*fit_count)[offset + best_region] += 1;
       }
-      if (best_region < 0) continue;
-      (*inliers)[offset + best_region].push_back(v * w + u);
-      (*bounds)[offset + best_region].Extend(Eigen::Vector3d(x, y, z));
-      if (close_planes > 1) continue;
-      const double wt = DepthNoiseWeight(z);
-      auto& s = (*sums)[offset + best_region];
-      s[0] += wt; s[1] += wt * x; s[2] += wt * y; s[3] += wt * z;
-      s[4] += wt * x * x; s[5] += wt * x * y; s[6] += wt * x * z; s[7] += wt * y * y; s[8] += wt * y * z; s[9] += wt * z * z;
-      (*fit_count)[offset + best_region] += 1;
     }
   }
 }
