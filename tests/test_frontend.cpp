@@ -11,6 +11,7 @@
 #include "planemap/frontend/frontend.h"
 #include "planemap/frontend/objects.h"
 #include "planemap/sim/walk.h"
+#include <yaml-cpp/yaml.h>
 #include "sim_views.h"
 #include "test_support.h"
 
@@ -209,6 +210,110 @@ TEST(Frontend, BadPatternFilesAreErrorsNamingTheFile) {
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadPatterns(edge); }, {edge, "edge 'a-b'"}));
   const std::string typo = dir.Write("t.yaml", "patterns:\n  - clas: x\n");
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadPatterns(typo); }, {typo + ":2", "unknown key 'patterns[0].clas'"}));
+}
+
+}  // namespace
+}  // namespace planemap
+
+namespace planemap {
+namespace {
+
+// A pole stands between the camera and the box's nearest vertical edge, hiding it from the
+// floor to above the box's top corner: the two side faces never meet in the image. Their edge
+// is inferred (hidden) from the top's cut edges with both sides, the box found whole, and the
+// inferred corner and edge are where the true ones are. Without the inference there is no box.
+TEST(Frontend, ABoxWhoseVerticalEdgeIsHiddenBehindAPoleIsFound) {
+  YAML::Node root = YAML::LoadFile(SourcePath("configs/scenes/default.yaml"));
+  const sim::Scene plain = sim::ParseScene(root, "default.yaml");
+  const sim::Cuboid& box = plain.cuboids[plain.object("box").cuboids[0]];
+  // The box's vertical edge nearest (0.9, 0, 1.1), and its top corner; the camera looks at the
+  // box along its diagonal through that edge, both sides in view.
+  const Eigen::Vector3d from(0.9, 0.0, 1.1);
+  const Eigen::Vector3d h = box.dimensions / 2;
+  Eigen::Vector3d corner_top = Eigen::Vector3d::Zero(), corner_bottom;
+  double nearest = 1e9;
+  for (const double sx : {-1.0, 1.0}) {
+    for (const double sy : {-1.0, 1.0}) {
+      const Eigen::Vector3d top = box.T_world_box * Eigen::Vector3d(sx * h.x(), sy * h.y(), h.z());
+      if ((top - from).norm() < nearest) {
+        nearest = (top - from).norm();
+        corner_top = top;
+        corner_bottom = box.T_world_box * Eigen::Vector3d(sx * h.x(), sy * h.y(), -h.z());
+      }
+    }
+  }
+  Eigen::Vector3d outward = corner_top - box.T_world_box.translation();
+  outward.z() = 0.0;
+  const Eigen::Vector3d eye = corner_top + 1.4 * outward.normalized() + Eigen::Vector3d(0.0, 0.0, 0.75);
+  // A pole 4 cm thick 60% of the way from the eye to the edge's middle, hiding it and the corner.
+  const Eigen::Vector3d middle = 0.5 * (corner_top + corner_bottom);
+  const Eigen::Vector3d at = eye + 0.6 * (middle - eye);
+  YAML::Node pole;
+  pole["name"] = "pole";
+  pole["type"] = "furniture";
+  pole["position"] = std::vector<double>{at.x(), at.y(), 0.0};
+  pole["rpy_deg"] = std::vector<double>{0.0, 0.0, 0.0};
+  pole["color"] = std::vector<int>{90, 90, 100};
+  YAML::Node shaft;
+  shaft["name"] = "shaft";
+  shaft["position"] = std::vector<double>{0.0, 0.0, 0.45};
+  shaft["dimensions"] = std::vector<double>{0.04, 0.04, 0.9};
+  pole["parts"].push_back(shaft);
+  root["objects"].push_back(pole);
+  const sim::Scene scene = sim::ParseScene(root, "default.yaml + pole");
+  sim::RenderConfig render;
+  const sim::VirtualCamera camera(scene, XtionCamera(), render);
+  const Pose3 T_world_camera = LookAt(eye, box.T_world_box.translation());
+  RgbdFrame frame;
+  sim::RenderedFrame rendered = camera.Render(T_world_camera, 7);
+  frame.depth = std::move(rendered.depth);
+  frame.color = std::move(rendered.color);
+  const Pose3 T_camera_world = T_world_camera.inverse();
+
+  FrontendConfig without;
+  without.intersections.hidden_edges = false;
+  const PatternsConfig patterns = LoadPatterns(SourcePath("configs/patterns.yaml"));
+  const FrameModel model = Frontend(XtionCamera(), FrontendConfig{}, patterns).Process(frame);
+  const FrameModel before = Frontend(XtionCamera(), without, patterns).Process(frame);
+  // The box's side faces that meet at the hidden edge: the planes whose normals are within 5 deg
+  // of the two true side normals next to it.
+  const Eigen::Vector3d up = T_camera_world.linear() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d edge_true = (T_camera_world * corner_bottom - T_camera_world * corner_top).normalized();
+  auto box_object = [&](const FrameModel& m) -> const FrameObject* {
+    for (const FrameObject& o : m.objects) {
+      int sides = 0, top = 0;
+      for (int p : o.planes) {
+        const Eigen::Vector3d n = m.planes[p].plane.normal;
+        top += n.dot(up) > std::cos(5.0 * M_PI / 180);
+        sides += std::abs(n.dot(up)) < std::sin(5.0 * M_PI / 180);
+      }
+      if (top == 1 && sides == 2) return &o;
+    }
+    return nullptr;
+  };
+  ASSERT_EQ(box_object(before), nullptr) << "the hidden edge was needed";
+  const FrameObject* found = box_object(model);
+  ASSERT_NE(found, nullptr);
+  EXPECT_EQ(found->label, "box");
+  const PlaneEdge* hidden = nullptr;
+  for (const PlaneEdge& e : model.edges) {
+    if (e.hidden) hidden = &e;
+  }
+  ASSERT_NE(hidden, nullptr);
+  // The pole hides the edge from the floor to above the top: both corners are inferred (the
+  // top's, the floor's), and the edge runs between them.
+  const Eigen::Vector3d top = T_camera_world * corner_top, bottom = T_camera_world * corner_bottom;
+  const double corner_error = std::min(std::max((hidden->start - top).norm(), (hidden->end - bottom).norm()),
+                                       std::max((hidden->start - bottom).norm(), (hidden->end - top).norm()));
+  const double angle_error = std::acos(std::min(1.0, std::abs(hidden->direction.dot(edge_true)))) * 180 / M_PI;
+  std::printf("hidden edge: ends %.1f cm from the true corners (worse end), %.1f deg off the true edge, %.1f cm long "
+              "(true %.1f), ends cut: %d %d; the box's height %.1f cm (complete: %d)\n", 100 * corner_error, angle_error,
+              100 * hidden->length, 100 * box.dimensions.z(), hidden->start_cut, hidden->end_cut, 100 * found->dimensions[2],
+              found->dimension_complete[2]);
+  EXPECT_LT(corner_error, 0.02) << "m";
+  EXPECT_LT(angle_error, 2.0) << "deg";
+  EXPECT_TRUE(hidden->Complete()) << "both ends are corners";
+  EXPECT_NEAR(found->dimensions[2], box.dimensions.z(), 0.01) << "m";
 }
 
 }  // namespace

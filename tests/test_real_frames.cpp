@@ -139,18 +139,22 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   EXPECT_EQ(f.table_found, f.scenes);
   EXPECT_EQ(f.table_in_object, 0);
   // Issue 3 asks that every box showing its top and two sides be found, with all faces within
-  // 5 deg of perpendicular. On these real scenes that holds for 8 of 11 boxes. The misses: a back
+  // 5 deg of perpendicular. On these real scenes that holds for 9 of 11 boxes. The misses: a back
   // box whose second side is a strip seen at about 82 deg incidence, fitted with another box's
-  // points (learn0); a box whose narrow left face the segmenter splits into two planes 36 deg
-  // apart (learn13); a box whose vertical corner is hidden behind the box in front of it, so its
-  // two sides never meet in the image (learn18). The worst face is 6.7 deg off (a 600-pixel top
-  // mostly hidden by the box on it). Both are printed above and are open work. Complete
-  // dimensions are within 1 cm of the labelled extent but one, 10.2 mm over (learn2: its side
-  // faces reach the table, but the labels stop about a centimetre above it, where some 400 points
-  // on the faces' planes are unlabelled). What is asserted: the table, the boxes found so far,
-  // that what is found is right, and that a dimension called complete is never grossly wrong (an
-  // occluded edge once passed for a whole one, 22 cm short):
-  ASSERT_GE(f.found, 8);
+  // points (learn0); a box whose narrow left face (10-15 px wide, 74 deg incidence) the
+  // segmenter splits into two planes 36 deg apart across the rounded corner with its front
+  // (learn13). learn18's back box is found though its vertical corner is hidden behind the box
+  // in front of it: its top, cut in two by that box, is one plane (coplanar pieces with an
+  // occluder between them), and the edge between its sides is inferred (a hidden edge). Its
+  // right side, a 575-pixel strip, is 14.4 deg off perpendicular to the top (a plane fitted to
+  // that side's labelled points is 10 deg off: the carton or the sensor's strip is bent), the
+  // worst face; the median is printed above. Complete dimensions are within 1 cm of the labelled
+  // extent but one, 10.2 mm over (learn2: its side faces reach the table, but the labels stop
+  // about a centimetre above it, where some 400 points on the faces' planes are unlabelled).
+  // What is asserted: the table, the boxes found so far, that what is found is right, and that a
+  // dimension called complete is never grossly wrong (an occluded edge once passed for a whole
+  // one, 22 cm short; learn18's bottom edge, ending in the front box's shadow, 11 cm short):
+  ASSERT_GE(f.found, 9);
   EXPECT_GE(*std::min_element(f.iou.begin(), f.iou.end()), 0.8);
   EXPECT_LE(median(f.perpendicular_error_deg), 5.0) << "deg";
   EXPECT_LE(median(f.dimension_error), 0.01) << "m";

@@ -323,6 +323,169 @@ void PullEndsOutOfFreeSpace(const Eigen::Vector3d& origin, const Eigen::Vector3d
   }
 }
 
+// The hidden edges (IntersectionConfig::hidden_edges) among `planes`, given the seen `edges`.
+void AddHiddenEdges(const std::vector<DetectedPlane>& planes, const Cloud& cloud, const std::vector<int>& plane_of_pixel,
+                    const CameraIntrinsics& camera, const IntersectionConfig& c, const EdgeTerminators* terminators,
+                    std::vector<PlaneEdge>* edges) {
+  const int n = static_cast<int>(planes.size());
+  const size_t seen = edges->size();
+  std::vector<int> edge_of(static_cast<size_t>(n) * n, -1);
+  for (size_t k = 0; k < seen; ++k) {
+    const PlaneEdge& e = (*edges)[k];
+    edge_of[e.plane_a * n + e.plane_b] = edge_of[e.plane_b * n + e.plane_a] = static_cast<int>(k);
+  }
+  auto is_structure = [&](int p) {
+    return terminators != nullptr && p < static_cast<int>(terminators->structure.size()) && terminators->structure[p];
+  };
+  // At most about 1000 of a plane's inliers, evenly spread.
+  auto sample = [&](const DetectedPlane& face) {
+    std::vector<Eigen::Vector3d> points;
+    const size_t stride = std::max<size_t>(1, face.inliers.size() / 1000);
+    for (size_t k = 0; k < face.inliers.size(); k += stride) points.push_back(PointAt(cloud, face.inliers[k]));
+    return points;
+  };
+  auto mostly_behind = [&](const std::vector<Eigen::Vector3d>& face, const Plane& other) {
+    int in_front = 0;
+    for (const Eigen::Vector3d& p : face) in_front += other.SignedDistance(p) > c.support_tolerance;
+    return in_front <= c.support_max_share * face.size();
+  };
+  // Whether the line from `from` (an end of the seen edge between planes p and q) to `to` runs
+  // behind a nearer surface: from the second pixel past `from` on (the first are the end's own),
+  // first perhaps p's or q's own pixels on the line (a face running on, which cut the end; or a
+  // surface there no plane took, as IsCut's unsegmented run), then,
+  // up to `to` included, pixels all nearer than the line by occluder_min_gap, fewer than
+  // 1 - hidden_min_depth_share of them without depth. False where the line leaves the image.
+  auto hidden_along = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& to, int p, int q) {
+    const double length = (to - from).norm();
+    if (from.z() <= 0.0 || to.z() <= 0.0 || length <= 2.0 * from.z() / camera.fx) return false;
+    const Eigen::Vector3d direction = (to - from) / length;
+    bool occluded = false;  // past the own faces' run
+    int pixels = 0, with_depth = 0;
+    for (double t = 2.0 * from.z() / camera.fx;; t += std::max(1e-4, (from + t * direction).z() / camera.fx)) {
+      const Eigen::Vector3d x = from + std::min(t, length) * direction;
+      const Eigen::Vector2d uv = camera.Project(x);
+      const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+      if (u < c.border_margin || v < c.border_margin || u >= camera.width - c.border_margin ||
+          v >= camera.height - c.border_margin) {
+        return false;
+      }
+      const int i = v * camera.width + u;
+      const auto& point = cloud[i];
+      const bool valid = IsValidPoint(point);
+      if (!occluded && valid && (plane_of_pixel[i] == p || plane_of_pixel[i] == q || plane_of_pixel[i] < 0) &&
+          std::abs(point.z - x.z()) < c.occluder_min_gap) {
+        if (t >= length) return false;  // the faces run on to the corner: it is seen
+        continue;
+      }
+      occluded = occluded || valid;  // a pixel without depth does not end the faces' run
+      ++pixels;
+      if (valid) {
+        ++with_depth;
+        if (point.z >= x.z() - c.occluder_min_gap) return false;  // seen: on the line or past it
+      }
+      if (t >= length) break;
+    }
+    return with_depth >= c.hidden_min_depth_share * pixels;
+  };
+  const double max_cos = std::cos(c.min_angle_deg * kDegToRad);
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      const Plane& pa = planes[a].plane;
+      const Plane& pb = planes[b].plane;
+      if (edge_of[a * n + b] >= 0 || is_structure(a) || is_structure(b) || std::abs(pa.normal.dot(pb.normal)) > max_cos) {
+        continue;
+      }
+      // The corners the hidden edge is seen to reach: one per third plane k that passes.
+      std::vector<std::pair<int, Eigen::Vector3d>> corners;
+      for (int k = 0; k < n; ++k) {
+        const int e1 = edge_of[a * n + k], e2 = edge_of[b * n + k];
+        if (e1 < 0 || e2 < 0) continue;
+        Eigen::Matrix3d N;
+        N << pa.normal.transpose(), pb.normal.transpose(), planes[k].plane.normal.transpose();
+        if (std::abs(N.determinant()) < c.hidden_min_determinant) continue;
+        const Eigen::Vector3d corner =
+            N.partialPivLu().solve(-Eigen::Vector3d(pa.offset, pb.offset, planes[k].plane.offset));
+        // Each seen edge's end toward the corner is cut, and the corner lies past it, within reach,
+        // hidden all the way.
+        bool hidden = true;
+        for (const int e : {e1, e2}) {
+          const PlaneEdge& edge = (*edges)[e];
+          const double s = (corner - edge.start).dot(edge.direction);
+          const bool toward_end = s > 0.5 * edge.length;
+          const double past = toward_end ? s - edge.length : -s;
+          hidden = hidden && (toward_end ? edge.end_cut : edge.start_cut) && past > 0.0 && past <= c.hidden_max_reach &&
+                   hidden_along(toward_end ? edge.end : edge.start, corner, edge.plane_a, edge.plane_b);
+        }
+        if (hidden) corners.emplace_back(k, corner);
+      }
+      if (corners.empty()) continue;
+      const std::vector<Eigen::Vector3d> points_a = sample(planes[a]), points_b = sample(planes[b]);
+      if (!mostly_behind(points_a, pb) || !mostly_behind(points_b, pa)) continue;  // not a solid's corner
+      PlaneEdge edge;
+      edge.plane_a = a;
+      edge.plane_b = b;
+      edge.convex = true;
+      edge.hidden = true;
+      edge.direction = pa.normal.cross(pb.normal).normalized();
+      if (corners.size() >= 2) {
+        // Two corners (the top's and the floor's): the edge runs between the two farthest apart,
+        // both ends known.
+        double low = 0.0, high = 0.0;
+        Eigen::Vector3d low_point = corners[0].second, high_point = corners[0].second;
+        for (const auto& [k, corner] : corners) {
+          const double t = edge.direction.dot(corner - corners[0].second);
+          if (t < low) low = t, low_point = corner;
+          if (t > high) high = t, high_point = corner;
+        }
+        edge.start = low_point;
+        edge.end = high_point;
+        edge.length = high - low;
+      } else {
+        // One corner: the edge leaves it toward the faces, as far as both reach from the third
+        // plane (their 99th percentile: a stray point does not lengthen it), measured as the
+        // distance from that plane over the edge's slope to it, not along the edge: a face a few
+        // degrees off would tilt the edge, and a face's points far from it would move along it.
+        const Plane& pk = planes[corners[0].first].plane;
+        std::vector<double> height_a, height_b;
+        for (const Eigen::Vector3d& p : points_a) height_a.push_back(pk.SignedDistance(p));
+        for (const Eigen::Vector3d& p : points_b) height_b.push_back(pk.SignedDistance(p));
+        auto percentile = [](std::vector<double> v, double q) {
+          const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * v.size()));
+          std::nth_element(v.begin(), v.begin() + i, v.end());
+          return v[i];
+        };
+        const double side = percentile(height_a, 0.5) + percentile(height_b, 0.5) < 0.0 ? -1.0 : 1.0;
+        for (double& h : height_a) h *= side;
+        for (double& h : height_b) h *= side;
+        if (side * edge.direction.dot(pk.normal) < 0.0) edge.direction = -edge.direction;
+        edge.length = std::min(percentile(height_a, 0.99), percentile(height_b, 0.99)) /
+                      std::abs(edge.direction.dot(pk.normal));
+        edge.start = corners[0].second;
+        edge.end = edge.start + edge.length * edge.direction;
+        edge.end_cut = true;  // where the faces' points end is not where the edge is seen to end
+      }
+      if (edge.length < c.min_length) continue;
+      edges->push_back(edge);
+      // Faces a and b go on to their hidden edge: a seen edge of either that ends short of the
+      // corner it would make with it (a bottom edge along the floor ending where the occluder's
+      // shadow begins, floor seen past it) is not seen to end there: it is cut.
+      for (size_t k = 0; k < seen; ++k) {
+        PlaneEdge& other = (*edges)[k];
+        if (other.plane_a != a && other.plane_a != b && other.plane_b != a && other.plane_b != b) continue;
+        const int m = other.plane_a == a || other.plane_a == b ? other.plane_b : other.plane_a;
+        if (m == a || m == b) continue;
+        Eigen::Matrix3d M;
+        M << pa.normal.transpose(), pb.normal.transpose(), planes[m].plane.normal.transpose();
+        if (std::abs(M.determinant()) < c.hidden_min_determinant) continue;
+        const Eigen::Vector3d meet = M.partialPivLu().solve(-Eigen::Vector3d(pa.offset, pb.offset, planes[m].plane.offset));
+        const double s = (meet - other.start).dot(other.direction);
+        if (s > 0.5 * other.length && s - other.length > c.d_thresh) other.end_cut = true;
+        if (s <= 0.5 * other.length && -s > c.d_thresh) other.start_cut = true;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
@@ -416,6 +579,7 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       edges.push_back(edge);
     }
   }
+  if (c.hidden_edges) AddHiddenEdges(planes, cloud, plane_of_pixel, camera, c, terminators, &edges);
   return edges;
 }
 

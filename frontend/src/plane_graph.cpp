@@ -83,9 +83,22 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
         angle.edges = {model->EdgeBetween(a, b), model->EdgeBetween(a, c), model->EdgeBetween(b, c)};
         angle.corner = N.partialPivLu().solve(
             -Eigen::Vector3d(planes[a].plane.offset, planes[b].plane.offset, planes[c].plane.offset));
+        // A hidden edge (at most one) was inferred from the corners it starts or ends at, with
+        // the other two edges' ends cut short of them by the occluder: the angle is one of them.
+        int hidden = 0;
         bool near = true;
-        for (int e : angle.edges) near = near && DistanceToSegment(angle.corner, model->edges[e]) < config.corner_max_distance;
-        if (near) model->angles.push_back(angle);
+        for (int e : angle.edges) {
+          const PlaneEdge& edge = model->edges[e];
+          hidden += edge.hidden;
+          if (edge.hidden) {
+            near = near && (std::min((edge.start - angle.corner).norm(), edge.end_cut ? 1e9 : (edge.end - angle.corner).norm()) <
+                            config.corner_snap_distance);
+          }
+        }
+        for (int e : angle.edges) {
+          if (hidden == 0) near = near && DistanceToSegment(angle.corner, model->edges[e]) < config.corner_max_distance;
+        }
+        if (near && hidden <= 1) model->angles.push_back(angle);
       }
     }
   }

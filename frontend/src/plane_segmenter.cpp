@@ -58,16 +58,21 @@ struct PixelBox {
   }
 };
 
-// Whether the camera sees past the surface two coplanar pieces would span: along the image
-// segment between pixels `from` and `to` (their pixel boxes' centres), the pixels of neither lie
-// farther than that surface (two box tops of one height with the floor between them), rather
-// than nearer (an occluder in front of one surface, which is what cut it in two) or on it.
-bool SeenThrough(const Cloud& cloud, const DetectedPlane& a, const DetectedPlane& b, const Eigen::Vector2d& from,
-                 const Eigen::Vector2d& to, const SegmenterConfig& config) {
+// What the camera sees between two coplanar pieces, along the image segment between pixels
+// `from` and `to` (their pixel boxes' centres): of the pixels of neither (with depth), how many
+// lie farther than the surface the pieces would span (the camera sees past it: two box tops of
+// one height with the floor between them) and how many nearer (an occluder in front of one
+// surface, which is what cut it in two).
+struct Between {
+  int pixels = 0, behind = 0, nearer = 0;
+};
+
+Between LookBetween(const Cloud& cloud, const DetectedPlane& a, const DetectedPlane& b, const Eigen::Vector2d& from,
+                    const Eigen::Vector2d& to, const SegmenterConfig& config) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   const Plane surface{(a.plane.normal + b.plane.normal).normalized(), 0.5 * (a.plane.offset + b.plane.offset)};
   const int steps = static_cast<int>(std::ceil((to - from).norm()));
-  int behind = 0, other = 0;
+  Between between;
   for (int k = 0; k <= steps; ++k) {
     const Eigen::Vector2d uv = from + (to - from) * (steps > 0 ? static_cast<double>(k) / steps : 0.0);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
@@ -80,14 +85,16 @@ bool SeenThrough(const Cloud& cloud, const DetectedPlane& a, const DetectedPlane
     const Eigen::Vector3d p(cloud[i].x, cloud[i].y, cloud[i].z);
     const Eigen::Vector3d ray = p.normalized();
     if (std::abs(surface.normal.dot(ray)) < 1e-6) continue;
-    ++other;
+    ++between.pixels;
     // Where the pixel's ray meets the surface; the margin grows with the square of the depth, as
     // the depth noise does.
     const std::optional<double> range = surface.IntersectRay(Eigen::Vector3d::Zero(), ray);
     const double margin = config.coplanar_see_through_margin * std::max(1.0, p.z() * p.z());
-    if (range && *range > 0.0 && p.norm() > *range + margin) ++behind;
+    if (!range || *range <= 0.0) continue;
+    if (p.norm() > *range + margin) ++between.behind;
+    if (p.norm() < *range - margin) ++between.nearer;
   }
-  return other > 0 && behind > config.coplanar_max_see_through * other;
+  return between;
 }
 
 // Merges pairs of planes with one equation whose pixels lie close, until none is left.
@@ -117,10 +124,14 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
         if (pa.plane.normal.dot(pb.plane.normal) < min_cos ||
             std::abs(pa.plane.SignedDistance(pb.centroid)) > config.coplanar_max_distance ||
             std::abs(pb.plane.SignedDistance(pa.centroid)) > config.coplanar_max_distance ||
-            box_of(a).Gap(box_of(b)) > config.coplanar_max_gap ||
-            SeenThrough(cloud, pa, pb, box_of(a).Center(), box_of(b).Center(), config)) {
+            box_of(a).Gap(box_of(b)) > std::max(config.coplanar_max_gap, config.coplanar_max_occluded_gap)) {
           continue;
         }
+        const Between between = LookBetween(cloud, pa, pb, box_of(a).Center(), box_of(b).Center(), config);
+        if (between.pixels > 0 && between.behind > config.coplanar_max_see_through * between.pixels) continue;
+        const bool occluded = between.pixels > 0 && between.nearer >= config.coplanar_min_occluded * between.pixels;
+        const int max_gap = occluded ? std::max(config.coplanar_max_gap, config.coplanar_max_occluded_gap) : config.coplanar_max_gap;
+        if (box_of(a).Gap(box_of(b)) > max_gap) continue;
         // Both are sorted and disjoint: one linear merge (std::sort of two sorted runs fell back to
         // heapsort and took a tenth of the frontend).
         std::vector<int> inliers(pa.inliers.size() + pb.inliers.size());

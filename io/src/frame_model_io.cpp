@@ -48,7 +48,8 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
   for (const PlaneEdge& e : model.edges) {
     j["edges"].push_back({{"planes", {e.plane_a, e.plane_b}}, {"start", Vec(e.start)}, {"end", Vec(e.end)},
                           {"length", e.length}, {"length_eq6", e.length_eq6}, {"points", e.points},
-                          {"start_cut", e.start_cut}, {"end_cut", e.end_cut}, {"convex", e.convex}});
+                          {"start_cut", e.start_cut}, {"end_cut", e.end_cut}, {"convex", e.convex},
+                          {"hidden", e.hidden}});
   }
   j["trihedral_angles"] = json::array();
   for (const TrihedralAngle& a : model.angles) {

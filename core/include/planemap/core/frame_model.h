@@ -27,6 +27,10 @@ struct PlaneEdge {
   // as on a solid's faces. Concave: one plane runs on in front of the other, as the table under
   // a box or a box standing on another one.
   bool convex = true;
+  // Hidden: not seen but inferred, a solid's edge behind an occluder (see IntersectionConfig::
+  // hidden_edges). It runs between the two corners it was inferred from, or from the one as far
+  // as its two faces reach, its far end cut. points and length_eq6 are 0.
+  bool hidden = false;
   bool Complete() const { return !start_cut && !end_cut; }
 };
 

@@ -46,6 +46,20 @@ struct IntersectionConfig {
   double band_on_plane_max_sigma = 3.0;
   double max_gap = 0.05;           // points further apart along the line split the edge:
                                    // the longest run counts [m]
+  // Hidden edges. Two faces of a solid whose common edge is behind an occluder (a box in front
+  // of another box's vertical corner) have no real intersection: their points never meet. The
+  // edge is inferred when a third plane meets both faces in real edges whose ends toward the
+  // three planes' corner are cut, and the camera sees something nearer than the lines all the
+  // way from those ends to the corner (or no depth there, for at most half of the pixels); the
+  // two faces lie each behind the other's plane, as a solid's do (no more than
+  // support_max_share of either's points support_tolerance in front of the other). The edge
+  // runs between two such corners (a box's top and the floor), or from one as far as both faces
+  // reach, its far end cut. A seen edge of either face that ends short of the hidden edge is cut
+  // there. [on/off]
+  bool hidden_edges = true;
+  double hidden_max_reach = 0.2;         // the corner lies at most this far past both ends [m]
+  double hidden_min_determinant = 0.5;   // |det(n_a, n_b, n_c)| of the three planes, at least
+  double hidden_min_depth_share = 0.5;   // share of the pixels along the way with depth, at least
 
   template <class V>
   void VisitFields(V&& v) {
@@ -68,6 +82,10 @@ struct IntersectionConfig {
     v("band_on_plane", band_on_plane);
     v("band_on_plane_max_sigma", band_on_plane_max_sigma, Check::kPositive);
     v("max_gap", max_gap, Check::kPositive);
+    v("hidden_edges", hidden_edges);
+    v("hidden_max_reach", hidden_max_reach, Check::kPositive);
+    v("hidden_min_determinant", hidden_min_determinant, Check::kProbability);
+    v("hidden_min_depth_share", hidden_min_depth_share, Check::kProbability);
   }
 };
 
@@ -86,7 +104,8 @@ struct EdgeTerminators {
 // or meets it behind the camera.
 Eigen::Vector3d AlongRayOntoPlane(const Plane& plane, const Eigen::Vector3d& p);
 
-// Every real intersection among `planes` (ids as indices), in the camera frame.
+// Every real intersection among `planes` (ids as indices), in the camera frame; then, with
+// hidden_edges, the hidden ones (PlaneEdge::hidden), after the seen ones.
 std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
                                          const CameraIntrinsics& camera, const IntersectionConfig& config,
                                          const EdgeTerminators* terminators = nullptr);

@@ -93,6 +93,13 @@ struct SegmenterConfig {
   double coplanar_see_through_margin = 0.02;  // pixels between them this far beyond it (at
                                               // 1 m, growing as depth squared) ... [m]
   double coplanar_max_see_through = 0.1;      // ... are more than this share of them [fraction]
+  // Farther apart, they are merged only when the camera sees an occluder across the gap: this
+  // share of the pixels between them or more lie nearer than the surface by the margin above
+  // (a box in front of the middle of another box's top, which it cuts into pieces more than
+  // coplanar_max_gap apart). Two surfaces of one equation behind one occluder are then taken for
+  // one: the simpler reading, which the image cannot tell from the other.
+  double coplanar_min_occluded = 0.9;         // [fraction]
+  int coplanar_max_occluded_gap = 120;        // [px]
   double max_view_angle_deg = 85.0;  // planes seen more edge-on at their centroid are dropped:
                                      // a plane through the camera holds whole pixel strips of
                                      // unrelated points [deg]
@@ -108,6 +115,8 @@ struct SegmenterConfig {
     v("coplanar_max_gap", coplanar_max_gap, Check::kNonNegative);
     v("coplanar_see_through_margin", coplanar_see_through_margin, Check::kPositive);
     v("coplanar_max_see_through", coplanar_max_see_through, Check::kProbability);
+    v("coplanar_min_occluded", coplanar_min_occluded, Check::kProbability);
+    v("coplanar_max_occluded_gap", coplanar_max_occluded_gap, Check::kNonNegative);
     v("max_view_angle_deg", max_view_angle_deg, Check::kPositive);
     v("organized", organized);
     v("msac", msac);
