@@ -273,7 +273,9 @@ TEST(Frontend, ABoxWhoseVerticalEdgeIsHiddenBehindAPoleIsFound) {
   FrontendConfig without;
   without.intersections.hidden_edges = false;
   const PatternsConfig patterns = LoadPatterns(SourcePath("configs/patterns.yaml"));
-  const FrameModel model = Frontend(XtionCamera(), FrontendConfig{}, patterns).Process(frame);
+  FrontendConfig with;
+  with.intersections.hidden_edges = true;
+  const FrameModel model = Frontend(XtionCamera(), with, patterns).Process(frame);
   const FrameModel before = Frontend(XtionCamera(), without, patterns).Process(frame);
   // The box's side faces that meet at the hidden edge: the planes whose normals are within 5 deg
   // of the two true side normals next to it.
