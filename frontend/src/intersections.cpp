@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include "planemap/core/statistics.h"
 #include "planemap/frontend/plane_segmenter.h"
 
 namespace planemap {
@@ -323,6 +324,14 @@ void PullEndsOutOfFreeSpace(const Eigen::Vector3d& origin, const Eigen::Vector3d
   }
 }
 
+// The point on three planes, if their normals' |determinant| is at least `min_determinant`.
+std::optional<Eigen::Vector3d> CornerOf(const Plane& a, const Plane& b, const Plane& c, double min_determinant) {
+  Eigen::Matrix3d N;
+  N << a.normal.transpose(), b.normal.transpose(), c.normal.transpose();
+  if (std::abs(N.determinant()) < min_determinant) return std::nullopt;
+  return Eigen::Vector3d(N.partialPivLu().solve(-Eigen::Vector3d(a.offset, b.offset, c.offset)));
+}
+
 // The hidden edges (IntersectionConfig::hidden_edges) among `planes`, given the seen `edges`.
 void AddHiddenEdges(const std::vector<DetectedPlane>& planes, const Cloud& cloud, const std::vector<int>& plane_of_pixel,
                     const CameraIntrinsics& camera, const IntersectionConfig& c, const EdgeTerminators* terminators,
@@ -400,11 +409,9 @@ void AddHiddenEdges(const std::vector<DetectedPlane>& planes, const Cloud& cloud
       for (int k = 0; k < n; ++k) {
         const int e1 = edge_of[a * n + k], e2 = edge_of[b * n + k];
         if (e1 < 0 || e2 < 0) continue;
-        Eigen::Matrix3d N;
-        N << pa.normal.transpose(), pb.normal.transpose(), planes[k].plane.normal.transpose();
-        if (std::abs(N.determinant()) < c.hidden_min_determinant) continue;
-        const Eigen::Vector3d corner =
-            N.partialPivLu().solve(-Eigen::Vector3d(pa.offset, pb.offset, planes[k].plane.offset));
+        const std::optional<Eigen::Vector3d> at = CornerOf(pa, pb, planes[k].plane, c.hidden_min_determinant);
+        if (!at) continue;
+        const Eigen::Vector3d& corner = *at;
         // Each seen edge's end toward the corner is cut, and the corner lies past it, within reach,
         // hidden all the way.
         bool hidden = true;
@@ -449,16 +456,11 @@ void AddHiddenEdges(const std::vector<DetectedPlane>& planes, const Cloud& cloud
         std::vector<double> height_a, height_b;
         for (const Eigen::Vector3d& p : points_a) height_a.push_back(pk.SignedDistance(p));
         for (const Eigen::Vector3d& p : points_b) height_b.push_back(pk.SignedDistance(p));
-        auto percentile = [](std::vector<double> v, double q) {
-          const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * v.size()));
-          std::nth_element(v.begin(), v.begin() + i, v.end());
-          return v[i];
-        };
-        const double side = percentile(height_a, 0.5) + percentile(height_b, 0.5) < 0.0 ? -1.0 : 1.0;
+        const double side = Percentile(height_a, 0.5) + Percentile(height_b, 0.5) < 0.0 ? -1.0 : 1.0;
         for (double& h : height_a) h *= side;
         for (double& h : height_b) h *= side;
         if (side * edge.direction.dot(pk.normal) < 0.0) edge.direction = -edge.direction;
-        edge.length = std::min(percentile(height_a, 0.99), percentile(height_b, 0.99)) /
+        edge.length = std::min(Percentile(height_a, 0.99), Percentile(height_b, 0.99)) /
                       std::abs(edge.direction.dot(pk.normal));
         edge.start = corners[0].second;
         edge.end = edge.start + edge.length * edge.direction;
@@ -474,11 +476,9 @@ void AddHiddenEdges(const std::vector<DetectedPlane>& planes, const Cloud& cloud
         if (other.plane_a != a && other.plane_a != b && other.plane_b != a && other.plane_b != b) continue;
         const int m = other.plane_a == a || other.plane_a == b ? other.plane_b : other.plane_a;
         if (m == a || m == b) continue;
-        Eigen::Matrix3d M;
-        M << pa.normal.transpose(), pb.normal.transpose(), planes[m].plane.normal.transpose();
-        if (std::abs(M.determinant()) < c.hidden_min_determinant) continue;
-        const Eigen::Vector3d meet = M.partialPivLu().solve(-Eigen::Vector3d(pa.offset, pb.offset, planes[m].plane.offset));
-        const double s = (meet - other.start).dot(other.direction);
+        const std::optional<Eigen::Vector3d> meet = CornerOf(pa, pb, planes[m].plane, c.hidden_min_determinant);
+        if (!meet) continue;
+        const double s = (*meet - other.start).dot(other.direction);
         if (s > 0.5 * other.length && s - other.length > c.d_thresh) other.end_cut = true;
         if (s <= 0.5 * other.length && -s > c.d_thresh) other.start_cut = true;
       }

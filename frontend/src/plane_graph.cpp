@@ -85,20 +85,19 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
             -Eigen::Vector3d(planes[a].plane.offset, planes[b].plane.offset, planes[c].plane.offset));
         // A hidden edge (at most one) was inferred from the corners it starts or ends at, with
         // the other two edges' ends cut short of them by the occluder: the angle is one of them.
-        int hidden = 0;
-        bool near = true;
+        const int hidden = static_cast<int>(std::count_if(angle.edges.begin(), angle.edges.end(),
+                                                          [&](int e) { return model->edges[e].hidden; }));
+        bool near = hidden <= 1;
         for (int e : angle.edges) {
           const PlaneEdge& edge = model->edges[e];
-          hidden += edge.hidden;
           if (edge.hidden) {
-            near = near && (std::min((edge.start - angle.corner).norm(), edge.end_cut ? 1e9 : (edge.end - angle.corner).norm()) <
-                            config.corner_snap_distance);
+            const double end = edge.end_cut ? 1e9 : (edge.end - angle.corner).norm();
+            near = near && std::min((edge.start - angle.corner).norm(), end) < config.corner_snap_distance;
+          } else if (hidden == 0) {
+            near = near && DistanceToSegment(angle.corner, edge) < config.corner_max_distance;
           }
         }
-        for (int e : angle.edges) {
-          if (hidden == 0) near = near && DistanceToSegment(angle.corner, model->edges[e]) < config.corner_max_distance;
-        }
-        if (near && hidden <= 1) model->angles.push_back(angle);
+        if (near) model->angles.push_back(angle);
       }
     }
   }

@@ -127,11 +127,12 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
             box_of(a).Gap(box_of(b)) > std::max(config.coplanar_max_gap, config.coplanar_max_occluded_gap)) {
           continue;
         }
+        const int gap = box_of(a).Gap(box_of(b));
         const Between between = LookBetween(cloud, pa, pb, box_of(a).Center(), box_of(b).Center(), config);
         if (between.pixels > 0 && between.behind > config.coplanar_max_see_through * between.pixels) continue;
         const bool occluded = between.pixels > 0 && between.nearer >= config.coplanar_min_occluded * between.pixels;
         const int max_gap = occluded ? std::max(config.coplanar_max_gap, config.coplanar_max_occluded_gap) : config.coplanar_max_gap;
-        if (box_of(a).Gap(box_of(b)) > max_gap) continue;
+        if (gap > max_gap) continue;
         // Both are sorted and disjoint: one linear merge (std::sort of two sorted runs fell back to
         // heapsort and took a tenth of the frontend).
         std::vector<int> inliers(pa.inliers.size() + pb.inliers.size());
