@@ -166,9 +166,9 @@ void BM_OpenCvRgbdPlane(benchmark::State& state) {
 }
 
 // The whole frontend: depth to cloud, planes, intersections, graph, objects, classes, sizes.
-void BM_Frontend(benchmark::State& state) {
+void RunFrontend(benchmark::State& state, const FrontendConfig& config) {
   const Frames& data = Shared();
-  const Frontend frontend(data.camera, FrontendConfig{}, LoadPatterns(Config("patterns.yaml")));
+  const Frontend frontend(data.camera, config, LoadPatterns(Config("patterns.yaml")));
   size_t k = 0, objects = 0;
   for (auto _ : state) {
     const FrameModel model = frontend.Process(data.frames[k++ % data.frames.size()].rgbd);
@@ -177,9 +177,18 @@ void BM_Frontend(benchmark::State& state) {
   }
   state.counters["objects_per_frame"] = static_cast<double>(objects) / k;
 }
+void BM_Frontend(benchmark::State& state) { RunFrontend(state, FrontendConfig{}); }
+// The same without the inferences for occluded solids (README, "Hidden edges"): their cost.
+void BM_FrontendNoOcclusionInference(benchmark::State& state) {
+  FrontendConfig config;
+  config.intersections.hidden_edges = false;
+  config.segmentation.coplanar_max_occluded_gap = 0;
+  RunFrontend(state, config);
+}
 
 BENCHMARK(BM_Cloud)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Frontend)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrontendNoOcclusionInference)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Organized)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PclOrganizedMultiPlane)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OpenCvRgbdPlane)->Unit(benchmark::kMillisecond);
@@ -206,6 +215,10 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     std::printf("  depth to cloud: %.2f ms/frame; "
                 "whole frontend (depth image to classified objects): %.2f ms/frame\n",
                 ms_.at("BM_Cloud"), ms_.at("BM_Frontend"));
+    if (ms_.count("BM_FrontendNoOcclusionInference")) {
+      std::printf("  without the occlusion inferences (hidden edges, occluded merge): %.2f ms/frame (%.2fx)\n",
+                  ms_.at("BM_FrontendNoOcclusionInference"), ms_.at("BM_Frontend") / ms_.at("BM_FrontendNoOcclusionInference"));
+    }
   }
 
  private:

@@ -23,15 +23,7 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 
 CameraIntrinsics OpenNi() { return LoadCameraIntrinsics(SourcePath("configs/cameras/tum_openni_default.yaml")); }
 
-// The frontend with the inferences for occluded boxes on (off by default, README "Hidden edges").
-FrontendConfig OccludedBoxes() {
-  FrontendConfig config;
-  config.intersections.hidden_edges = true;
-  config.segmentation.coplanar_max_occluded_gap = 120;
-  return config;
-}
-
-Frontend MakeFrontend(const FrontendConfig& config = OccludedBoxes()) {
+Frontend MakeFrontend(const FrontendConfig& config = FrontendConfig{}) {
   return Frontend(OpenNi(), config, LoadPatterns(SourcePath("configs/patterns.yaml")));
 }
 

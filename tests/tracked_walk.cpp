@@ -56,8 +56,10 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
     run.smoothed.push_back({frame.stamp, window.Update(tracker.map(), tracker.observations().back())});
     if (std::getenv("PLANEMAP_TRACE")) {
       const Pose3 e = (T_run_world * truth[k].T_world_camera).inverse() * r.T_world_camera;
-      std::printf("frame %zu %s planes %d matched %d inliers %d added %d icp %d err %.1f mm %.2f deg %s\n", k, ToString(r.status), r.planes,
-                  r.matched, r.inliers, r.added, r.refined, 1000 * e.translation().norm(), RotationAngle(e.linear()) * 57.3, r.reason.c_str());
+      const Pose3 p = (T_run_world * truth[k].T_world_camera).inverse() * r.T_predicted;  // the motion model's error
+      std::printf("frame %zu %s planes %d matched %d inliers %d added %d icp %d err %.1f mm %.2f deg (predicted %.1f mm %.2f deg) %s\n",
+                  k, ToString(r.status), r.planes, r.matched, r.inliers, r.added, r.refined, 1000 * e.translation().norm(),
+                  RotationAngle(e.linear()) * 57.3, 1000 * p.translation().norm(), RotationAngle(p.linear()) * 57.3, r.reason.c_str());
     }
     run.status.push_back(r.status);
   }

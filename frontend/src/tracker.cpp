@@ -321,11 +321,15 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     // Poses the robot cannot have reached from the prediction (beyond max_correction, plus the
     // drift along unobserved directions) are not hypotheses: parallel planes (a floor and a box
     // top, a shelf's boards) would otherwise offer consistent false matches.
+    // With one pose behind it and no odometry the motion model knows no velocity yet: the robot
+    // may have moved by up to max_speed since (a study's second frame, 10 cm on).
+    const double unknown_motion =
+        history_.size() == 1 && !odometry ? config_.max_speed * std::max(0.0, stamp - history_.back().first) : 0.0;
     const auto plausibility = [&](const Pose3& T_candidate) {
       const Pose3 correction = predicted.inverse() * T_candidate;
       const Eigen::Vector3d moved = T_candidate.translation() - predicted.translation();  // world
       const Eigen::Vector3d along_unobserved = unobserved_ * moved;
-      const double observed_part = (moved - along_unobserved).norm() / config_.max_correction;
+      const double observed_part = (moved - along_unobserved).norm() / (config_.max_correction + unknown_motion);
       const double unobserved_part = along_unobserved.norm() / (config_.max_correction + drift);
       const double turn = RotationAngle(correction.linear()) / (config_.max_correction_deg * kDegToRad);
       if (observed_part > 1.0 || unobserved_part > 1.0 || turn > 1.0) return 0.0;

@@ -99,7 +99,7 @@ struct SegmenterConfig {
   // coplanar_max_gap apart). Two surfaces of one equation behind one occluder are then taken for
   // one: the simpler reading, which the image cannot tell from the other.
   double coplanar_min_occluded = 0.9;         // [fraction]
-  int coplanar_max_occluded_gap = 0;          // [px]; 0: off (README, "Hidden edges"); 120 finds learn18
+  int coplanar_max_occluded_gap = 120;        // [px]; 0: off (README, "Hidden edges")
   double max_view_angle_deg = 85.0;  // planes seen more edge-on at their centroid are dropped:
                                      // a plane through the camera holds whole pixel strips of
                                      // unrelated points [deg]
