@@ -36,10 +36,12 @@ struct OrganizedSegmenterConfig {
   // is done again by sample consensus (robust_hypotheses planes through 3 of its inliers, seeded
   // by robust_seed): the plane most of them lie on, refitted on the inliers within the inlier
   // distance of it; the others are dropped.
-  // Only planes this far or farther: nearer, the growing gates are too tight to take in a
-  // surface behind, and a real face's few millimetres of bulge would set the check off (an OSD
-  // carton's side 0.6 m away, refitted by consensus, came out 7 deg turned).
-  double robust_min_depth = 2.5;               // [m]
+  // Only planes this far or farther: nearer, the gates are tight and half the inlier distance
+  // (under 5 mm) is what a real face's bulge can reach (an OSD carton's side 0.6 m away, refitted
+  // by consensus, came out 7 deg turned in an earlier version). From 1 m on it also keeps a board's
+  // side seen at a glancing angle apart from the board's 2 cm front edge beside it (the office's
+  // shelf 1.0-1.8 m away: from 2.5 m on only, up to a quarter of the side's inliers were the edge's).
+  double robust_min_depth = 1.0;               // [m]
   double robust_check_share = 0.05;            // [fraction]
   int robust_hypotheses = 20;
   int robust_seed = 1;
