@@ -15,6 +15,7 @@
 #include "planemap/sim/walk.h"
 #include "sim_views.h"
 #include "test_support.h"
+#include "tracked_walk.h"
 
 namespace planemap {
 namespace {
@@ -321,9 +322,12 @@ TEST(PlaneSegmentation, OrganizedKeepsAFarSliverApartFromTheWallBehindIt) {
 // standard deviations): the part of the edge within half the inlier distance of the side's plane
 // does not set the check off.
 TEST(PlaneSegmentation, OrganizedKeepsANearBoardSideApartFromItsFrontEdge) {
+  const auto office = std::find_if(testing::SceneWalks().begin(), testing::SceneWalks().end(),
+                                   [](const testing::SceneWalk& w) { return std::string(w.scene) == "configs/scenes/office.yaml"; });
+  ASSERT_NE(office, testing::SceneWalks().end());
   sim::WalkConfig walk;
-  walk.waypoints = {0.3, 0.6, 3.378, 0.449, 2.79, 0.175};
-  walk.rate = 5.0;
+  walk.waypoints = office->waypoints;
+  walk.rate = 5.0;  // as TrackWalk
   const Trajectory truth = sim::GenerateWalk(walk);
   std::vector<Pose3> poses;
   for (size_t k = 60; k <= 100 && k < truth.size(); k += 4) poses.push_back(truth[k].T_world_camera);
