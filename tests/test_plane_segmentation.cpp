@@ -12,7 +12,6 @@
 #include "planemap/frontend/plane_segmenter.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
-#include "planemap/sim/walk.h"
 #include "sim_views.h"
 #include "test_support.h"
 #include "tracked_walk.h"
@@ -325,10 +324,7 @@ TEST(PlaneSegmentation, OrganizedKeepsANearBoardSideApartFromItsFrontEdge) {
   const auto office = std::find_if(testing::SceneWalks().begin(), testing::SceneWalks().end(),
                                    [](const testing::SceneWalk& w) { return std::string(w.scene) == "configs/scenes/office.yaml"; });
   ASSERT_NE(office, testing::SceneWalks().end());
-  sim::WalkConfig walk;
-  walk.waypoints = office->waypoints;
-  walk.rate = 5.0;  // as TrackWalk
-  const Trajectory truth = sim::GenerateWalk(walk);
+  const Trajectory truth = testing::WalkTruth(office->waypoints);
   std::vector<Pose3> poses;
   for (size_t k = 60; k <= 100 && k < truth.size(); k += 4) poses.push_back(truth[k].T_world_camera);
   ASSERT_EQ(poses.size(), 11u);

@@ -28,17 +28,21 @@ std::string SceneStem(const SceneWalk& walk) {
   return name.substr(0, name.find('.'));
 }
 
-TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first,
-                     std::size_t last, const Pose3& T_run_world, const BackendConfig& backend) {
+Trajectory WalkTruth(std::vector<double> waypoints) {
   sim::WalkConfig walk;
   walk.waypoints = std::move(waypoints);
   walk.rate = 5.0;
+  return sim::GenerateWalk(walk);
+}
+
+TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first,
+                     std::size_t last, const Pose3& T_run_world, const BackendConfig& backend) {
   sim::RenderConfig render;
   render.seed = seed;
   const sim::VirtualCamera camera(scene, XtionCamera(), render);
   const Frontend frontend(XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml")));
   TrackedRun run;
-  const Trajectory truth = sim::GenerateWalk(walk);
+  const Trajectory truth = WalkTruth(std::move(waypoints));
   last = std::min(last, truth.size());
   if (first >= last) return run;
   run.truth.assign(truth.begin() + first, truth.begin() + last);

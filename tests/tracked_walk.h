@@ -44,6 +44,9 @@ const std::vector<SceneWalk>& SceneWalks();
 // A test name from a walk: its scene file's stem ("default").
 std::string SceneStem(const SceneWalk& walk);
 
+// The true camera poses of such a walk through `waypoints` (5 Hz), as TrackWalk renders them.
+Trajectory WalkTruth(std::vector<double> waypoints);
+
 TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first = 0,
                      std::size_t last = std::numeric_limits<std::size_t>::max(),
                      const Pose3& T_run_world = Pose3::Identity(), const BackendConfig& backend = BackendConfig{});
