@@ -97,6 +97,14 @@ void BM_Organized(benchmark::State& state) {
   RunSegmenter(state, [&](const Frame& f) { return segmenter->Segment(*f.cloud).planes; });
 }
 
+// Without the search for thin strips among the pixels no cell's plane took.
+void BM_OrganizedNoStrips(benchmark::State& state) {
+  SegmenterConfig config;
+  config.organized.leftover_hypotheses = 0;
+  const auto segmenter = MakePlaneSegmenter(config);
+  RunSegmenter(state, [&](const Frame& f) { return segmenter->Segment(*f.cloud).planes; });
+}
+
 void BM_PclSacMsac(benchmark::State& state) {
   SegmenterConfig config;
   config.method = "msac";
@@ -189,10 +197,19 @@ void BM_FrontendNoOcclusionInference(benchmark::State& state) {
   RunFrontend(state, config);
 }
 
+// Without the segmenter's search for thin strips (organized.leftover_hypotheses: 0).
+void BM_FrontendNoStrips(benchmark::State& state) {
+  FrontendConfig config;
+  config.segmentation.organized.leftover_hypotheses = 0;
+  RunFrontend(state, config);
+}
+
 BENCHMARK(BM_Cloud)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Frontend)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendNoOcclusionInference)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrontendNoStrips)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Organized)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OrganizedNoStrips)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PclOrganizedMultiPlane)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OpenCvRgbdPlane)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PclSacMsac)->Unit(benchmark::kMillisecond)->MinTime(3.0);
@@ -221,6 +238,10 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     if (ms_.count("BM_FrontendNoOcclusionInference")) {
       std::printf("  without the occlusion inferences (hidden edges, occluded merge): %.2f ms/frame (%.2fx)\n",
                   ms_.at("BM_FrontendNoOcclusionInference"), ms_.at("BM_Frontend") / ms_.at("BM_FrontendNoOcclusionInference"));
+    }
+    if (ms_.count("BM_FrontendNoStrips")) {
+      std::printf("  without the search for thin strips: %.2f ms/frame (%.2fx)\n", ms_.at("BM_FrontendNoStrips"),
+                  ms_.at("BM_Frontend") / ms_.at("BM_FrontendNoStrips"));
     }
   }
 

@@ -209,6 +209,92 @@ TEST(PlaneSegmentation, CoplanarPiecesMergeAcrossAnOccluderNotAcrossAGap) {
   EXPECT_EQ(TwoCoplanarPieces(2.5f).planes.size(), 2u) << "the camera sees past the surface between them";
 }
 
+// Two pieces of a frontal surface 0.7 m away side by side, the right one `step` farther, with
+// 1 mm of depth noise: the sides of two stacked boxes, one set back (OSD learn17: 1.7 cm).
+SegmentationResult TwoPiecesAStepApart(float step) {
+  Cloud cloud(640, 480);
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.001f);
+  std::vector<int> left, right;
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      const float z = 0.7f + (u < 320 ? 0.0f : step) + noise(rng);
+      auto& p = cloud(u, v);
+      p.x = (u - 319.5f) * z / 525.0f, p.y = (v - 239.5f) * z / 525.0f, p.z = z;
+      (u < 320 ? left : right).push_back(v * 640 + u);
+    }
+  }
+  std::vector<DetectedPlane> planes = {FitDetectedPlane(cloud, left), FitDetectedPlane(cloud, right)};
+  return FinishSegmentation(cloud, std::move(planes), 640 * 480, SegmenterConfig{});
+}
+
+TEST(PlaneSegmentation, ParallelFacesAStepApartAreNotMerged) {
+  EXPECT_EQ(TwoPiecesAStepApart(0.0f).planes.size(), 1u) << "one surface";
+  // 1.5 cm apart: within the 3 cm the offsets may differ, but one plane would fit them at 7.6 mm
+  // RMS, against 1 mm for each.
+  const SegmentationResult step = TwoPiecesAStepApart(0.015f);
+  ASSERT_EQ(step.planes.size(), 2u) << "two faces a step apart";
+  for (const DetectedPlane& p : step.planes) EXPECT_LT(p.rms, 0.0015) << "m";
+}
+
+// A face seen as a diagonal strip 10 px wide between two larger faces, as a box's side seen at a
+// glancing angle between its top and the next face (OSD learn17): no cell of the segmenter fits
+// in it. Each pixel lies on the plane of its region; 0.5 mm of depth noise.
+struct StripScene {
+  Cloud cloud{640, 480};
+  Plane strip_plane;
+  std::vector<int> strip;
+};
+
+StripScene DiagonalStrip() {
+  StripScene scene;
+  // Planes n.x + d = 0 with the normal toward the camera, about 0.7 m away.
+  const Plane left{Eigen::Vector3d(-0.3, 0.2, -1.0).normalized(), 0.7};
+  scene.strip_plane = Plane{Eigen::Vector3d(0.6, 0.3, -0.75).normalized(), 0.45};
+  const Plane right{Eigen::Vector3d(0.2, 0.6, -0.8).normalized(), 0.65};
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 0.0005);
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      const double across = (u - v - 80) / std::sqrt(2.0);  // signed distance to the strip's middle line [px]
+      const Plane& plane = across < -5 ? left : across < 5 ? scene.strip_plane : right;
+      const Eigen::Vector3d ray((u - 319.5) / 525.0, (v - 239.5) / 525.0, 1.0);
+      const double z = -plane.offset / plane.normal.dot(ray) + noise(rng);
+      auto& p = scene.cloud(u, v);
+      p.x = static_cast<float>(ray.x() * z), p.y = static_cast<float>(ray.y() * z), p.z = static_cast<float>(z);
+      if (std::abs(across) < 5) scene.strip.push_back(v * 640 + u);
+    }
+  }
+  return scene;
+}
+
+TEST(PlaneSegmentation, OrganizedFindsAFaceSeenAsAThinDiagonalStrip) {
+  const StripScene scene = DiagonalStrip();
+  auto strip_plane = [&](const SegmentationResult& result) -> const DetectedPlane* {
+    for (const DetectedPlane& p : result.planes) {
+      if (NormalAngle(p.plane, scene.strip_plane) < 2.0 * M_PI / 180.0) return &p;
+    }
+    return nullptr;
+  };
+  SegmenterConfig without;
+  without.organized.leftover_hypotheses = 0;
+  EXPECT_EQ(strip_plane(MakePlaneSegmenter(without)->Segment(scene.cloud)), nullptr) << "no cell fits in the strip";
+  const SegmentationResult result = MakePlaneSegmenter(SegmenterConfig{})->Segment(scene.cloud);
+  const DetectedPlane* found = strip_plane(result);
+  ASSERT_NE(found, nullptr);
+  EXPECT_TRUE(found->strip) << "tracking leaves it out";
+  int on_strip = 0;
+  double farthest = 0.0;  // from the strip's true plane: pixels beside it lie on it where the planes meet
+  for (int i : found->inliers) {
+    on_strip += std::binary_search(scene.strip.begin(), scene.strip.end(), i);
+    farthest = std::max(farthest, std::abs(scene.strip_plane.SignedDistance(scene.cloud[i].getVector3fMap().cast<double>())));
+  }
+  EXPECT_GE(on_strip, 0.8 * scene.strip.size()) << "of " << scene.strip.size() << " strip pixels";
+  EXPECT_LT(farthest, 0.008) << "m";
+  EXPECT_LT(NormalAngle(found->plane, scene.strip_plane) * 180.0 / M_PI, 1.0) << "deg";
+  EXPECT_NEAR(found->plane.offset, scene.strip_plane.offset, 0.002) << "m";
+}
+
 TEST(PlaneSegmentation, UnknownMethodIsAnError) {
   SegmenterConfig config;
   config.method = "ransac";

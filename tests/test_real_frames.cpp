@@ -3,9 +3,15 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include <gtest/gtest.h>
+#include <pcl/ModelCoefficients.h>
+#include <pcl/PointIndices.h>
+#include <pcl/sample_consensus/method_types.h>
+#include <pcl/sample_consensus/model_types.h>
+#include <pcl/segmentation/sac_segmentation.h>
 
 #include "planemap/core/statistics.h"
 #include "planemap/frontend/frontend.h"
@@ -31,6 +37,67 @@ Frontend MakeFrontend(const FrontendConfig& config = FrontendConfig{}) {
 int ObjectOf(std::uint32_t label) { return label >= 20 ? static_cast<int>(label / 10) - 1 : 0; }
 bool IsTable(std::uint32_t label) { return label >= 1 && label <= 9; }
 
+// Planes through the given points by PCL's RANSAC (fixed seed), one after another, each of at
+// least 400 points (the segmenters' smallest plane) within 5 mm: their normals, toward the camera.
+std::vector<Eigen::Vector3d> SacPlanes(const Cloud& cloud, const std::vector<int>& indices, int max_planes) {
+  auto points = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (int i : indices) points->push_back(pcl::PointXYZ(cloud[i].x, cloud[i].y, cloud[i].z));
+  pcl::SACSegmentation<pcl::PointXYZ> sac;
+  sac.setOptimizeCoefficients(true);
+  sac.setModelType(pcl::SACMODEL_PLANE);
+  sac.setMethodType(pcl::SAC_RANSAC);
+  sac.setDistanceThreshold(0.005);
+  sac.setMaxIterations(1000);
+  sac.setInputCloud(points);
+  auto remaining = std::make_shared<pcl::Indices>(points->size());
+  std::iota(remaining->begin(), remaining->end(), 0);
+  std::vector<Eigen::Vector3d> normals;
+  while (static_cast<int>(normals.size()) < max_planes && remaining->size() >= 400) {
+    pcl::PointIndices inliers;
+    pcl::ModelCoefficients c;
+    sac.setIndices(remaining);
+    sac.segment(inliers, c);
+    if (inliers.indices.size() < 400) break;
+    Eigen::Vector3d n(c.values[0], c.values[1], c.values[2]);
+    n.normalize();
+    if (n.dot((*points)[inliers.indices[0]].getVector3fMap().cast<double>()) > 0) n = -n;
+    normals.push_back(n);
+    std::sort(inliers.indices.begin(), inliers.indices.end());
+    auto next = std::make_shared<pcl::Indices>();
+    std::set_difference(remaining->begin(), remaining->end(), inliers.indices.begin(), inliers.indices.end(),
+                        std::back_inserter(*next));
+    remaining = next;
+  }
+  return normals;
+}
+
+// Each labelled box's faces: planes through its labelled points (at most four).
+std::map<int, std::vector<Eigen::Vector3d>> LabelledFaces(const Cloud& cloud, const std::vector<std::uint32_t>& labels) {
+  std::map<int, std::vector<int>> points;
+  for (size_t i = 0; i < labels.size(); ++i) {
+    if (ObjectOf(labels[i]) > 0 && IsValidPoint(cloud[i])) points[ObjectOf(labels[i])].push_back(static_cast<int>(i));
+  }
+  std::map<int, std::vector<Eigen::Vector3d>> faces;
+  for (const auto& [box, indices] : points) faces[box] = SacPlanes(cloud, indices, 4);
+  return faces;
+}
+
+// A top (within 15 deg of horizontal) and two sides (within 15 deg of vertical, at least 60 deg
+// apart) among the faces' normals.
+bool TopAndTwoSides(const std::vector<Eigen::Vector3d>& normals, const Eigen::Vector3d& up) {
+  bool top = false, two_sides = false;
+  std::vector<Eigen::Vector3d> sides;
+  for (const Eigen::Vector3d& n : normals) {
+    const double c = std::abs(n.dot(up));
+    top |= c > std::cos(15.0 / kRadToDeg);
+    if (c < std::sin(15.0 / kRadToDeg)) sides.push_back(n);
+  }
+  for (size_t a = 0; a < sides.size(); ++a) {
+    for (size_t b = a + 1; b < sides.size(); ++b) two_sides |= std::abs(sides[a].dot(sides[b])) < 0.5;
+  }
+  return top && two_sides;
+}
+
 struct BoxFigures {
   int boxes_with_three_faces = 0, found = 0, complete_dimensions = 0;
   std::vector<double> iou, perpendicular_error_deg, dimension_error;
@@ -50,7 +117,13 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
       f->table_in_object += std::count(o.planes.begin(), o.planes.end(), model.floor) > 0;
     }
   }
-  const Eigen::Vector3d up = model.floor >= 0 ? model.planes[model.floor].plane.normal : Eigen::Vector3d(0, -1, 0);
+  std::vector<int> table_points;
+  for (size_t i = 0; i < pcd.labels.size(); ++i) {
+    if (IsTable(pcd.labels[i]) && IsValidPoint((*pcd.cloud)[i])) table_points.push_back(static_cast<int>(i));
+  }
+  const std::vector<Eigen::Vector3d> table = SacPlanes(*pcd.cloud, table_points, 1);
+  ASSERT_EQ(table.size(), 1u) << "learn" << index << ": no plane through the table's labelled points";
+  const Eigen::Vector3d table_up = table[0];
   // Which labelled box each detected plane belongs to (70% of its inliers).
   std::map<int, std::vector<int>> planes_of_box;
   for (const DetectedPlane& p : model.planes) {
@@ -60,28 +133,24 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
       if (box > 0 && n > 0.7 * p.inliers.size()) planes_of_box[box].push_back(p.id);
     }
   }
-  for (const auto& [box, planes] : planes_of_box) {
-    // Does the box show its top and two sides (a horizontal plane and two perpendicular vertical)?
-    std::vector<int> tops, sides;
-    for (int p : planes) {
-      const double c = std::abs(model.planes[p].plane.normal.dot(up));
-      if (c > std::cos(15.0 / kRadToDeg)) tops.push_back(p);
-      if (c < std::sin(15.0 / kRadToDeg)) sides.push_back(p);
-    }
-    bool two_sides = false;
-    for (size_t a = 0; a < sides.size(); ++a) {
-      for (size_t b = a + 1; b < sides.size(); ++b) {
-        two_sides |= std::abs(model.planes[sides[a]].plane.normal.dot(model.planes[sides[b]].plane.normal)) < 0.5;
-      }
-    }
-    if (tops.empty() || !two_sides) continue;
+  for (const auto& [box, faces] : LabelledFaces(*pcd.cloud, pcd.labels)) {
+    // Does the box show its top and two sides? Decided from its labelled points, not from what
+    // the frontend found.
+    if (!TopAndTwoSides(faces, table_up)) continue;
     ++f->boxes_with_three_faces;
+    // Found: an object whose faces are all this box's, among them its top and two sides.
+    const std::vector<int>& planes = planes_of_box[box];
     const FrameObject* found = nullptr;
     for (const FrameObject& o : model.objects) {
-      if (std::all_of(o.planes.begin(), o.planes.end(), [&](int p) { return std::count(planes.begin(), planes.end(), p); })) found = &o;
+      std::vector<Eigen::Vector3d> normals;
+      for (int p : o.planes) normals.push_back(model.planes[p].plane.normal);
+      if (std::all_of(o.planes.begin(), o.planes.end(), [&](int p) { return std::count(planes.begin(), planes.end(), p); }) &&
+          TopAndTwoSides(normals, table_up)) {
+        found = &o;
+      }
     }
     if (found == nullptr) {
-      std::printf("learn%d: box %d shows top and two sides but is not an object\n", index, box);
+      std::printf("learn%d: box %d shows top and two sides, but no object has them\n", index, box);
       continue;
     }
     ++f->found;
@@ -139,22 +208,29 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   EXPECT_EQ(f.table_found, f.scenes);
   EXPECT_EQ(f.table_in_object, 0);
   // Issue 3 asks that every box showing its top and two sides be found, with all faces within
-  // 5 deg of perpendicular. On these real scenes that holds for 9 of 11 boxes. The misses: a back
-  // box whose second side is a strip seen at about 82 deg incidence, fitted with another box's
-  // points (learn0); a box whose narrow left face (10-15 px wide, 74 deg incidence) the
-  // segmenter splits into two planes 36 deg apart across the rounded corner with its front
-  // (learn13). learn18's back box is found though its vertical corner is hidden behind the box
-  // in front of it: its top, cut in two by that box, is one plane (coplanar pieces with an
-  // occluder between them), and the edge between its sides is inferred (a hidden edge). Its
-  // right side, a 575-pixel strip, is 14.4 deg off perpendicular to the top (a plane fitted to
-  // that side's labelled points is 10 deg off: the carton or the sensor's strip is bent), the
-  // worst face; the median is printed above. Complete dimensions are within 1 cm of the labelled
-  // extent but one, 10.2 mm over (learn2: its side faces reach the table, but the labels stop
-  // about a centimetre above it, where some 400 points on the faces' planes are unlabelled).
+  // 5 deg of perpendicular. Which boxes show them is read from the labels (planes by RANSAC
+  // through each box's labelled points), and a box counts as found only by an object holding a
+  // top and two sides of it. On these real scenes that holds for 11 of 13 boxes. The misses: a
+  // box whose narrow left face (10-15 px wide, 74 deg incidence) the segmenter splits into two
+  // planes 36 deg apart across the rounded corner with its front (learn13, box 1); the lower of
+  // two stacked boxes, whose top shows only as two thin strips beside the upper box, fitted 6 and
+  // 10 deg off (learn17, box 1: its two sides and the table make an object without the top).
+  // The upper box there is found since thin strips no cell fits are searched for planes
+  // (its right side, a diagonal strip 10-18 px wide) and since a plane is not merged with a
+  // parallel one a step away (its left side and the lower box's, 1.7 cm apart). learn18's back
+  // box is found though its vertical corner is hidden behind the box in front of it: its top,
+  // cut in two by that box, is one plane (coplanar pieces with an occluder between them), and
+  // the edge between its sides is inferred (a hidden edge). Its right side, a 575-pixel strip,
+  // is 14.4 deg off perpendicular to the top (a plane fitted to that side's labelled points is
+  // 10 deg off: the carton or the sensor's strip is bent), the worst face; the median is printed
+  // above. Complete dimensions are within 1 cm of the labelled extent but one, 10.2 mm over
+  // (learn2: its side faces reach the table, but the labels stop about a centimetre above it,
+  // where some 400 points on the faces' planes are unlabelled).
   // What is asserted: the table, the boxes found so far, that what is found is right, and that a
   // dimension called complete is never grossly wrong (an occluded edge once passed for a whole
   // one, 22 cm short; learn18's bottom edge, ending in the front box's shadow, 11 cm short):
-  ASSERT_GE(f.found, 9);
+  EXPECT_EQ(f.boxes_with_three_faces, 13);
+  ASSERT_GE(f.found, 11);
   EXPECT_GE(*std::min_element(f.iou.begin(), f.iou.end()), 0.8);
   EXPECT_LE(median(f.perpendicular_error_deg), 5.0) << "deg";
   EXPECT_LE(median(f.dimension_error), 0.01) << "m";

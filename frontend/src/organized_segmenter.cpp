@@ -1,5 +1,6 @@
 #include "planemap/frontend/organized_segmenter.h"
 
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -338,6 +339,123 @@ std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vec
   return kept;
 }
 
+// The pixels reached from `seed` on a w x h grid through 4 neighbours (8 if `diagonal`) that
+// `joins(from, to)` takes (it marks them); the seed is taken by the caller.
+template <class Joins>
+std::vector<int> Flood(int seed, int w, int h, bool diagonal, std::vector<int>* stack, Joins joins) {
+  std::vector<int> reached;
+  stack->assign(1, seed);
+  while (!stack->empty()) {
+    const int i = stack->back();
+    stack->pop_back();
+    reached.push_back(i);
+    const int u = i % w, v = i / w;
+    for (int dv = -1; dv <= 1; ++dv) {
+      for (int du = -1; du <= 1; ++du) {
+        if ((du == 0 && dv == 0) || (!diagonal && du != 0 && dv != 0)) continue;
+        const int uu = u + du, vv = v + dv;
+        if (uu < 0 || uu >= w || vv < 0 || vv >= h) continue;
+        if (joins(i, vv * w + uu)) stack->push_back(vv * w + uu);
+      }
+    }
+  }
+  return reached;
+}
+
+// Step 4b: planes among the pixels no plane took, where no cell fits (a box's side seen as a
+// strip 10-18 px wide running diagonally across the image). The free pixels are split into parts
+// connected on the image grid without a depth jump; in each part of min_inliers pixels or more,
+// sample consensus (leftover_hypotheses planes through 3 of its pixels, MSAC's truncated loss at
+// half the inlier distance, the best refitted by least squares on the pixels it holds) finds the
+// plane most of them lie on, whose pixels within the inlier distance make a plane if they are
+// min_inliers or more and connected; then again on the part's remaining pixels.
+std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vector<std::uint8_t>& usable,
+                                             const OrganizedSegmenterConfig& c, int min_inliers) {
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
+  const auto limit = [&](const pcl::PointXYZRGB& p) {
+    return GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, p.z);
+  };
+  const auto distance = [](const Eigen::Vector3d& n, double d, const pcl::PointXYZRGB& p) {
+    return std::abs(n.x() * p.x + n.y() * p.y + n.z() * p.z + d);
+  };
+  std::vector<int> part_of(usable.size(), -1);
+  std::vector<std::uint8_t> in_plane(usable.size(), 0);  // 1: on the plane being split, 2: visited
+  std::vector<std::vector<int>> found;
+  std::vector<int> stack;
+  std::mt19937 random(static_cast<std::uint32_t>(c.robust_seed));
+  for (int start = 0; start < w * h; ++start) {
+    if (!usable[start] || part_of[start] >= 0) continue;
+    part_of[start] = start;
+    std::vector<int> part = Flood(start, w, h, false, &stack, [&](int i, int j) {
+      if (!usable[j] || part_of[j] >= 0 || std::abs(cloud[j].z - cloud[i].z) > static_cast<float>(c.cell_jump_relative) * cloud[i].z) {
+        return false;
+      }
+      part_of[j] = start;
+      return true;
+    });
+    std::sort(part.begin(), part.end());  // row order: the samples do not hang on the fill's order
+    while (static_cast<int>(part.size()) >= min_inliers) {
+      const size_t stride = std::max<size_t>(1, part.size() / 250);
+      auto score = [&](const Eigen::Vector3d& n, double d) {
+        double cost = 0.0;
+        for (size_t k = 0; k < part.size(); k += stride) {
+          const double r = distance(n, d, cloud[part[k]]) / (0.5 * limit(cloud[part[k]]));
+          cost += std::min(1.0, r * r);
+        }
+        return cost;
+      };
+      std::uniform_int_distribution<size_t> pick(0, part.size() - 1);
+      Eigen::Vector3d best_normal = Eigen::Vector3d::UnitZ();
+      double best_offset = 0.0, best_cost = std::numeric_limits<double>::infinity();
+      for (int hypothesis = 0; hypothesis < c.leftover_hypotheses; ++hypothesis) {
+        const Eigen::Vector3d a = cloud[part[pick(random)]].getVector3fMap().cast<double>();
+        const Eigen::Vector3d b = cloud[part[pick(random)]].getVector3fMap().cast<double>();
+        const Eigen::Vector3d e = cloud[part[pick(random)]].getVector3fMap().cast<double>();
+        Eigen::Vector3d n = (b - a).cross(e - a);
+        if (n.norm() < 1e-9) continue;
+        n.normalize();
+        const double cost = score(n, -n.dot(a));
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_normal = n;
+          best_offset = -n.dot(a);
+        }
+      }
+      if (!std::isfinite(best_cost)) break;
+      PointMoments held;
+      for (size_t k = 0; k < part.size(); k += stride) {
+        const pcl::PointXYZRGB& p = cloud[part[k]];
+        if (distance(best_normal, best_offset, p) < 0.5 * limit(p)) held.Add(p.getVector3fMap().cast<double>(), DepthNoiseWeight(p.z));
+      }
+      const PlaneFit refit = FitPlane(held);
+      if (refit.ok && score(refit.plane.normal, refit.plane.offset) < best_cost) {
+        best_normal = refit.plane.normal;
+        best_offset = refit.plane.offset;
+      }
+      std::vector<int> on, rest;
+      for (int i : part) (distance(best_normal, best_offset, cloud[i]) < limit(cloud[i]) ? on : rest).push_back(i);
+      if (static_cast<int>(on.size()) < min_inliers) break;
+      // Its pixels connected on the image grid (8-neighbours) make a plane each, if enough.
+      for (int i : on) in_plane[i] = 1;
+      for (int seed : on) {
+        if (in_plane[seed] != 1) continue;
+        in_plane[seed] = 2;
+        std::vector<int> piece = Flood(seed, w, h, true, &stack, [&](int, int j) {
+          if (in_plane[j] != 1) return false;
+          in_plane[j] = 2;
+          return true;
+        });
+        if (static_cast<int>(piece.size()) < min_inliers) continue;
+        std::sort(piece.begin(), piece.end());
+        found.push_back(std::move(piece));
+      }
+      for (int i : on) in_plane[i] = 0;
+      part = std::move(rest);
+    }
+  }
+  return found;
+}
+
 }  // namespace
 
 SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
@@ -365,6 +483,8 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
       for (int i : inliers[r]) usable[i] = 0;
     }
   }
+  std::vector<std::vector<int>> leftover;
+  if (c.leftover_hypotheses > 0) leftover = LeftoverPlanes(cloud, usable, c, config_.min_inliers);
   std::vector<PointMoments> fit_moments(inliers.size());
   for (size_t r = 0; r < inliers.size(); ++r) {
     const auto& s = sums[r];
@@ -390,6 +510,10 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
       continue;
     }
     planes.push_back(MakeDetectedPlane(fit, std::move(inliers[r]), bounds[r]));
+  }
+  for (std::vector<int>& pixels : leftover) {
+    planes.push_back(FitDetectedPlane(cloud, std::move(pixels)));
+    planes.back().strip = true;
   }
   return FinishSegmentation(cloud, std::move(planes), valid_points, config_);
 }

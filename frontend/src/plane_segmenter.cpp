@@ -121,7 +121,7 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
       for (size_t b = a + 1; b < planes->size() && !merged; ++b) {
         const DetectedPlane& pa = (*planes)[a];
         const DetectedPlane& pb = (*planes)[b];
-        if (pa.plane.normal.dot(pb.plane.normal) < min_cos ||
+        if (pa.strip != pb.strip || pa.plane.normal.dot(pb.plane.normal) < min_cos ||
             std::abs(pa.plane.SignedDistance(pb.centroid)) > config.coplanar_max_distance ||
             std::abs(pb.plane.SignedDistance(pa.centroid)) > config.coplanar_max_distance ||
             box_of(a).Gap(box_of(b)) > std::max(config.coplanar_max_gap, config.coplanar_max_occluded_gap)) {
@@ -138,7 +138,18 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
         std::vector<int> inliers(pa.inliers.size() + pb.inliers.size());
         std::merge(pa.inliers.begin(), pa.inliers.end(), pb.inliers.begin(), pb.inliers.end(),
                    inliers.begin());
-        (*planes)[a] = FitDetectedPlane(cloud, std::move(inliers));
+        DetectedPlane both = FitDetectedPlane(cloud, std::move(inliers));
+        // One surface: the plane through both fits them about as well as each piece's own plane
+        // fits it, or as well as the depth resolution allows (pieces of a wall facing the camera
+        // lie on the sensor's depth steps, each flatter than the noise). Two parallel faces a step
+        // apart do not: a box's side and the side of the box stacked on it, 1.7 cm apart at
+        // 0.6 m, fit one plane at 6.7 mm RMS against 2.1 and 2.2 mm each.
+        const double na = static_cast<double>(pa.inliers.size()), nb = static_cast<double>(pb.inliers.size());
+        const double pooled = std::sqrt((na * pa.rms * pa.rms + nb * pb.rms * pb.rms) / (na + nb));
+        const double z = 0.5 * (pa.centroid.z() + pb.centroid.z());
+        if (both.rms > config.coplanar_max_rms_ratio * std::max(pooled, config.coplanar_rms_floor * z * z)) continue;
+        both.strip = pa.strip;  // strips merge with strips only (a strip is no landmark)
+        (*planes)[a] = std::move(both);
         planes->erase(planes->begin() + b);
         boxes.erase(boxes.begin() + b);
         boxes[a].reset();

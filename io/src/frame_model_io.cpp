@@ -42,6 +42,7 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
   for (const DetectedPlane& p : model.planes) {
     j["planes"].push_back({{"id", p.id}, {"normal", Vec(p.plane.normal)}, {"offset", p.plane.offset},
                            {"centroid", Vec(p.centroid)}, {"inliers", p.inliers.size()}, {"rms", p.rms},
+                           {"strip", p.strip},
                            {"structure", p.id < static_cast<int>(model.structure.size()) && model.structure[p.id]}});
   }
   j["edges"] = json::array();

@@ -21,6 +21,10 @@ struct DetectedPlane {
   // Axis-aligned box of the inlier points [m], kept by the segmenters that make the plane (they
   // read every inlier anyway); empty when not computed, and then readers compute it.
   Box3 bounds;
+  // Found among the pixels no cell of the organized segmenter fitted (a face seen as a thin
+  // strip): a frame's objects use it; tracking leaves it out (its normal rests on a strip's
+  // width), and the objects it is a face of.
+  bool strip = false;
 };
 
 // Least-squares plane through points given by their first and second moments: the normal is the

@@ -45,6 +45,10 @@ struct OrganizedSegmenterConfig {
   double robust_check_share = 0.05;            // [fraction]
   int robust_hypotheses = 20;
   int robust_seed = 1;
+  // Pixels no plane took, where no cell fits (a side seen as a strip 10-18 px wide running
+  // diagonally): connected parts of min_inliers or more are searched for planes by sample
+  // consensus with this many hypotheses (seeded by robust_seed); 0: off.
+  int leftover_hypotheses = 50;
 
   template <class V>
   void VisitFields(V&& v) {
@@ -65,6 +69,7 @@ struct OrganizedSegmenterConfig {
     v("robust_check_share", robust_check_share, Check::kProbability);
     v("robust_hypotheses", robust_hypotheses, Check::kPositive);
     v("robust_seed", robust_seed, Check::kNonNegative);
+    v("leftover_hypotheses", leftover_hypotheses, Check::kNonNegative);
   }
 };
 
@@ -102,6 +107,11 @@ struct SegmenterConfig {
   // one: the simpler reading, which the image cannot tell from the other.
   double coplanar_min_occluded = 0.9;         // [fraction]
   int coplanar_max_occluded_gap = 120;        // [px]; 0: off (README, "Hidden edges")
+  // Nor when the plane through both fits them worse than this many times their own planes' RMS,
+  // taken as at least the sensor's depth resolution (the floor at 1 m, growing as depth squared;
+  // a Kinect's noise and disparity step together are about 1.7 mm at 1 m): parallel faces a step apart.
+  double coplanar_max_rms_ratio = 2.0;        // [ratio]
+  double coplanar_rms_floor = 0.002;          // [m at 1 m]
   double max_view_angle_deg = 85.0;  // planes seen more edge-on at their centroid are dropped:
                                      // a plane through the camera holds whole pixel strips of
                                      // unrelated points [deg]
@@ -119,6 +129,8 @@ struct SegmenterConfig {
     v("coplanar_max_see_through", coplanar_max_see_through, Check::kProbability);
     v("coplanar_min_occluded", coplanar_min_occluded, Check::kProbability);
     v("coplanar_max_occluded_gap", coplanar_max_occluded_gap, Check::kNonNegative);
+    v("coplanar_max_rms_ratio", coplanar_max_rms_ratio, Check::kPositive);
+    v("coplanar_rms_floor", coplanar_rms_floor, Check::kPositive);
     v("max_view_angle_deg", max_view_angle_deg, Check::kPositive);
     v("organized", organized);
     v("msac", msac);
