@@ -1,6 +1,5 @@
 #include "planemap/frontend/organized_segmenter.h"
 
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -280,6 +279,16 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
   }
 }
 
+// A pixel's inlier distance at depth z [m].
+double InlierDistance(const OrganizedSegmenterConfig& c, double z) {
+  return GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, z);
+}
+
+// |n.p + d| [m].
+double PlaneDistance(const Eigen::Vector3d& n, double d, const pcl::PointXYZRGB& p) {
+  return std::abs(n.x() * p.x + n.y() * p.y + n.z() * p.z + d);
+}
+
 // Step 5's check, for a plane robust_min_depth or farther: the share of its inliers farther than
 // half the inlier distance from it. Above robust_check_share, the plane most of them lie on by
 // sample consensus (MSAC's truncated squared loss on distances over half the inlier distance, as
@@ -287,17 +296,12 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
 // the plane stands as it is (also when the least-squares plane itself scores best).
 std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vector<int>& inliers, const PlaneFit& fit,
                                const OrganizedSegmenterConfig& c, std::uint32_t seed) {
-  const auto limit = [&](const pcl::PointXYZRGB& p) {
-    return GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, p.z);
-  };
-  const auto distance = [](const Eigen::Vector3d& n, double d, const pcl::PointXYZRGB& p) {
-    return std::abs(n.x() * p.x + n.y() * p.y + n.z() * p.z + d);
-  };
+  const auto limit = [&](const pcl::PointXYZRGB& p) { return InlierDistance(c, p.z); };
   if (fit.centroid.z() < c.robust_min_depth) return std::nullopt;
   // The share from at most 2000 of them, and at most 300 scored per hypothesis.
   int far = 0, checked = 0;
   for (size_t k = 0; k < inliers.size(); k += std::max<size_t>(1, inliers.size() / 2000), ++checked) {
-    far += distance(fit.plane.normal, fit.plane.offset, cloud[inliers[k]]) > 0.5 * limit(cloud[inliers[k]]);
+    far += PlaneDistance(fit.plane.normal, fit.plane.offset, cloud[inliers[k]]) > 0.5 * limit(cloud[inliers[k]]);
   }
   if (far <= c.robust_check_share * checked) return std::nullopt;
   const size_t stride = std::max<size_t>(1, inliers.size() / 300);
@@ -321,7 +325,7 @@ std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vec
     double cost = 0.0;
     for (size_t k = 0; k < inliers.size(); k += stride) {
       const pcl::PointXYZRGB& p = cloud[inliers[k]];
-      const double r = distance(n, d, p) / (0.5 * limit(p));
+      const double r = PlaneDistance(n, d, p) / (0.5 * limit(p));
       cost += std::min(1.0, r * r);
     }
     if (cost < best_cost) {
@@ -334,7 +338,7 @@ std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vec
   if (best_hypothesis == 0) return std::nullopt;  // most of them lie on the least-squares plane
   std::vector<int> kept;
   for (int i : inliers) {
-    if (distance(best_normal, best_offset, cloud[i]) < limit(cloud[i])) kept.push_back(i);
+    if (PlaneDistance(best_normal, best_offset, cloud[i]) < limit(cloud[i])) kept.push_back(i);
   }
   return kept;
 }
@@ -372,25 +376,20 @@ std::vector<int> Flood(int seed, int w, int h, bool diagonal, std::vector<int>* 
 std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vector<std::uint8_t>& usable,
                                              const OrganizedSegmenterConfig& c, int min_inliers) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
-  const auto limit = [&](const pcl::PointXYZRGB& p) {
-    return GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, p.z);
-  };
-  const auto distance = [](const Eigen::Vector3d& n, double d, const pcl::PointXYZRGB& p) {
-    return std::abs(n.x() * p.x + n.y() * p.y + n.z() * p.z + d);
-  };
-  std::vector<int> part_of(usable.size(), -1);
+  const auto limit = [&](const pcl::PointXYZRGB& p) { return InlierDistance(c, p.z); };
+  std::vector<std::uint8_t> in_part(usable.size(), 0);  // taken by a part already
   std::vector<std::uint8_t> in_plane(usable.size(), 0);  // 1: on the plane being split, 2: visited
   std::vector<std::vector<int>> found;
   std::vector<int> stack;
   std::mt19937 random(static_cast<std::uint32_t>(c.robust_seed));
   for (int start = 0; start < w * h; ++start) {
-    if (!usable[start] || part_of[start] >= 0) continue;
-    part_of[start] = start;
+    if (!usable[start] || in_part[start]) continue;
+    in_part[start] = 1;
     std::vector<int> part = Flood(start, w, h, false, &stack, [&](int i, int j) {
-      if (!usable[j] || part_of[j] >= 0 || std::abs(cloud[j].z - cloud[i].z) > static_cast<float>(c.cell_jump_relative) * cloud[i].z) {
+      if (!usable[j] || in_part[j] || std::abs(cloud[j].z - cloud[i].z) > static_cast<float>(c.cell_jump_relative) * cloud[i].z) {
         return false;
       }
-      part_of[j] = start;
+      in_part[j] = 1;
       return true;
     });
     std::sort(part.begin(), part.end());  // row order: the samples do not hang on the fill's order
@@ -399,7 +398,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
       auto score = [&](const Eigen::Vector3d& n, double d) {
         double cost = 0.0;
         for (size_t k = 0; k < part.size(); k += stride) {
-          const double r = distance(n, d, cloud[part[k]]) / (0.5 * limit(cloud[part[k]]));
+          const double r = PlaneDistance(n, d, cloud[part[k]]) / (0.5 * limit(cloud[part[k]]));
           cost += std::min(1.0, r * r);
         }
         return cost;
@@ -425,7 +424,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
       PointMoments held;
       for (size_t k = 0; k < part.size(); k += stride) {
         const pcl::PointXYZRGB& p = cloud[part[k]];
-        if (distance(best_normal, best_offset, p) < 0.5 * limit(p)) held.Add(p.getVector3fMap().cast<double>(), DepthNoiseWeight(p.z));
+        if (PlaneDistance(best_normal, best_offset, p) < 0.5 * limit(p)) held.Add(p.getVector3fMap().cast<double>(), DepthNoiseWeight(p.z));
       }
       const PlaneFit refit = FitPlane(held);
       if (refit.ok && score(refit.plane.normal, refit.plane.offset) < best_cost) {
@@ -433,7 +432,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
         best_offset = refit.plane.offset;
       }
       std::vector<int> on, rest;
-      for (int i : part) (distance(best_normal, best_offset, cloud[i]) < limit(cloud[i]) ? on : rest).push_back(i);
+      for (int i : part) (PlaneDistance(best_normal, best_offset, cloud[i]) < limit(cloud[i]) ? on : rest).push_back(i);
       if (static_cast<int>(on.size()) < min_inliers) break;
       // Its pixels connected on the image grid (8-neighbours) make a plane each, if enough.
       for (int i : on) in_plane[i] = 1;
