@@ -14,7 +14,10 @@
 #include <pcl/segmentation/organized_multi_plane_segmentation.h>
 
 #include "planemap/frontend/frontend.h"
+#include "planemap/frontend/intersections.h"
+#include "planemap/frontend/objects.h"
 #include "planemap/frontend/organized_cloud.h"
+#include "planemap/frontend/plane_graph.h"
 #include "planemap/frontend/plane_evaluation.h"
 #include "planemap/frontend/plane_segmenter.h"
 #include "planemap/sim/scene.h"
@@ -197,6 +200,77 @@ void BM_FrontendNoOcclusionInference(benchmark::State& state) {
   RunFrontend(state, config);
 }
 
+// Stage by stage, each on the output of the stages before it (computed untimed, as
+// Frontend::Process runs them): 3. the floor and walls, then the real intersections, eqs. (2)-(6);
+// 4-5. the plane graph, trihedral angles and objects, then sizes, centres (eq. 7), grasp sides and
+// classes.
+struct Staged {
+  FrameModel segmented;   // planes only
+  FrameModel intersected; // and structure, edges
+};
+struct Stages {
+  FrontendConfig config;
+  PatternsConfig patterns = LoadPatterns(Config("patterns.yaml"));
+  std::vector<Staged> frames;
+  Eigen::Vector3d up_prior = UpPrior(config.graph);
+  Stages() {
+    const Frames& data = Shared();
+    const std::unique_ptr<PlaneSegmenter> segmenter = MakePlaneSegmenter(config.segmentation);
+    for (const Frame& f : data.frames) {
+      Staged s;
+      s.segmented.planes = segmenter->Segment(*f.cloud).planes;
+      s.intersected = s.segmented;
+      Intersect(*f.cloud, data.camera, &s.intersected);
+      frames.push_back(std::move(s));
+    }
+  }
+  void Intersect(const Cloud& cloud, const CameraIntrinsics& camera, FrameModel* model) const {
+    FindStructure(cloud, config.graph, model);
+    EdgeTerminators terminators;
+    terminators.structure = model->structure;
+    terminators.up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior;
+    model->edges = FindIntersections(model->planes, cloud, camera, config.intersections, &terminators);
+  }
+  void Objects(const Cloud& cloud, FrameModel* model) const {
+    AggregateObjects(config.graph, model);
+    MeasureObjects(cloud, config.objects, up_prior, model);
+    const Eigen::Vector3d up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior;
+    ClassifyObjects(patterns, config.objects, up, model);
+  }
+};
+const Stages& SharedStages() {
+  static const Stages stages;
+  return stages;
+}
+
+void BM_StageIntersections(benchmark::State& state) {
+  const Frames& data = Shared();
+  const Stages& stages = SharedStages();
+  size_t k = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    FrameModel model = stages.frames[k % data.frames.size()].segmented;
+    state.ResumeTiming();
+    stages.Intersect(*data.frames[k % data.frames.size()].cloud, data.camera, &model);
+    benchmark::DoNotOptimize(model.edges.data());
+    ++k;
+  }
+}
+
+void BM_StageObjects(benchmark::State& state) {
+  const Frames& data = Shared();
+  const Stages& stages = SharedStages();
+  size_t k = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    FrameModel model = stages.frames[k % data.frames.size()].intersected;
+    state.ResumeTiming();
+    stages.Objects(*data.frames[k % data.frames.size()].cloud, &model);
+    benchmark::DoNotOptimize(model.objects.data());
+    ++k;
+  }
+}
+
 // Without the segmenter's search for thin strips (organized.leftover_hypotheses: 0).
 void BM_FrontendNoStrips(benchmark::State& state) {
   FrontendConfig config;
@@ -208,6 +282,8 @@ BENCHMARK(BM_Cloud)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Frontend)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendNoOcclusionInference)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendNoStrips)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageIntersections)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageObjects)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Organized)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OrganizedNoStrips)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PclOrganizedMultiPlane)->Unit(benchmark::kMillisecond);
@@ -235,6 +311,11 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     std::printf("  depth to cloud: %.2f ms/frame; "
                 "whole frontend (depth image to classified objects): %.2f ms/frame\n",
                 ms_.at("BM_Cloud"), ms_.at("BM_Frontend"));
+    if (ms_.count("BM_StageIntersections") && ms_.count("BM_StageObjects")) {
+      std::printf("  by stage, each timed on its own: cloud %.2f, planes %.2f, floor/walls and intersections %.2f, "
+                  "graph, objects, sizes and classes %.2f ms/frame\n",
+                  ms_.at("BM_Cloud"), ms_.at("BM_Organized"), ms_.at("BM_StageIntersections"), ms_.at("BM_StageObjects"));
+    }
     if (ms_.count("BM_FrontendNoOcclusionInference")) {
       std::printf("  without the occlusion inferences (hidden edges, occluded merge): %.2f ms/frame (%.2fx)\n",
                   ms_.at("BM_FrontendNoOcclusionInference"), ms_.at("BM_Frontend") / ms_.at("BM_FrontendNoOcclusionInference"));
