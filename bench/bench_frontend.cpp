@@ -243,32 +243,27 @@ const Stages& SharedStages() {
   return stages;
 }
 
-void BM_StageIntersections(benchmark::State& state) {
+// Times `stage` on each frame's model as the stages before left it (copied untimed).
+template <typename Stage>
+void RunStage(benchmark::State& state, FrameModel Staged::*input, Stage stage) {
   const Frames& data = Shared();
   const Stages& stages = SharedStages();
   size_t k = 0;
   for (auto _ : state) {
+    const size_t f = k++ % data.frames.size();
     state.PauseTiming();
-    FrameModel model = stages.frames[k % data.frames.size()].segmented;
+    FrameModel model = stages.frames[f].*input;
     state.ResumeTiming();
-    stages.Intersect(*data.frames[k % data.frames.size()].cloud, data.camera, &model);
-    benchmark::DoNotOptimize(model.edges.data());
-    ++k;
+    stage(stages, *data.frames[f].cloud, &model);
+    benchmark::DoNotOptimize(model.planes.data());
   }
 }
-
+void BM_StageIntersections(benchmark::State& state) {
+  RunStage(state, &Staged::segmented,
+           [](const Stages& s, const Cloud& cloud, FrameModel* model) { s.Intersect(cloud, Shared().camera, model); });
+}
 void BM_StageObjects(benchmark::State& state) {
-  const Frames& data = Shared();
-  const Stages& stages = SharedStages();
-  size_t k = 0;
-  for (auto _ : state) {
-    state.PauseTiming();
-    FrameModel model = stages.frames[k % data.frames.size()].intersected;
-    state.ResumeTiming();
-    stages.Objects(*data.frames[k % data.frames.size()].cloud, &model);
-    benchmark::DoNotOptimize(model.objects.data());
-    ++k;
-  }
+  RunStage(state, &Staged::intersected, [](const Stages& s, const Cloud& cloud, FrameModel* model) { s.Objects(cloud, model); });
 }
 
 // Without the segmenter's search for thin strips (organized.leftover_hypotheses: 0).
