@@ -14,10 +14,7 @@
 #include <pcl/segmentation/organized_multi_plane_segmentation.h>
 
 #include "planemap/frontend/frontend.h"
-#include "planemap/frontend/intersections.h"
-#include "planemap/frontend/objects.h"
 #include "planemap/frontend/organized_cloud.h"
-#include "planemap/frontend/plane_graph.h"
 #include "planemap/frontend/plane_evaluation.h"
 #include "planemap/frontend/plane_segmenter.h"
 #include "planemap/sim/scene.h"
@@ -200,42 +197,26 @@ void BM_FrontendNoOcclusionInference(benchmark::State& state) {
   RunFrontend(state, config);
 }
 
-// Stage by stage, each on the output of the stages before it (computed untimed, as
-// Frontend::Process runs them): 3. the floor and walls, then the real intersections, eqs. (2)-(6);
-// 4-5. the plane graph, trihedral angles and objects, then sizes, centres (eq. 7), grasp sides and
-// classes.
+// Stage by stage, each on the output of the stages before it (computed untimed):
+// Frontend::FindEdges (the floor and walls, then the real intersections, eqs. 2-6) and
+// Frontend::FindObjects (plane graph, trihedral angles, objects, sizes, centres, grasp sides,
+// classes), as Frontend::Process runs them after the planes.
 struct Staged {
-  FrameModel segmented;   // planes only
-  FrameModel intersected; // and structure, edges
+  FrameModel segmented;    // planes only
+  FrameModel intersected;  // and structure, edges
 };
 struct Stages {
-  FrontendConfig config;
-  PatternsConfig patterns = LoadPatterns(Config("patterns.yaml"));
+  Frontend frontend{Shared().camera, FrontendConfig{}, LoadPatterns(Config("patterns.yaml"))};
   std::vector<Staged> frames;
-  Eigen::Vector3d up_prior = UpPrior(config.graph);
   Stages() {
-    const Frames& data = Shared();
-    const std::unique_ptr<PlaneSegmenter> segmenter = MakePlaneSegmenter(config.segmentation);
-    for (const Frame& f : data.frames) {
+    const std::unique_ptr<PlaneSegmenter> segmenter = MakePlaneSegmenter(FrontendConfig{}.segmentation);
+    for (const Frame& f : Shared().frames) {
       Staged s;
       s.segmented.planes = segmenter->Segment(*f.cloud).planes;
       s.intersected = s.segmented;
-      Intersect(*f.cloud, data.camera, &s.intersected);
+      frontend.FindEdges(*f.cloud, &s.intersected);
       frames.push_back(std::move(s));
     }
-  }
-  void Intersect(const Cloud& cloud, const CameraIntrinsics& camera, FrameModel* model) const {
-    FindStructure(cloud, config.graph, model);
-    EdgeTerminators terminators;
-    terminators.structure = model->structure;
-    terminators.up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior;
-    model->edges = FindIntersections(model->planes, cloud, camera, config.intersections, &terminators);
-  }
-  void Objects(const Cloud& cloud, FrameModel* model) const {
-    AggregateObjects(config.graph, model);
-    MeasureObjects(cloud, config.objects, up_prior, model);
-    const Eigen::Vector3d up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior;
-    ClassifyObjects(patterns, config.objects, up, model);
   }
 };
 const Stages& SharedStages() {
@@ -254,17 +235,12 @@ void RunStage(benchmark::State& state, FrameModel Staged::*input, Stage stage) {
     state.PauseTiming();
     FrameModel model = stages.frames[f].*input;
     state.ResumeTiming();
-    stage(stages, *data.frames[f].cloud, &model);
+    (stages.frontend.*stage)(*data.frames[f].cloud, &model);
     benchmark::DoNotOptimize(model.planes.data());
   }
 }
-void BM_StageIntersections(benchmark::State& state) {
-  RunStage(state, &Staged::segmented,
-           [](const Stages& s, const Cloud& cloud, FrameModel* model) { s.Intersect(cloud, Shared().camera, model); });
-}
-void BM_StageObjects(benchmark::State& state) {
-  RunStage(state, &Staged::intersected, [](const Stages& s, const Cloud& cloud, FrameModel* model) { s.Objects(cloud, model); });
-}
+void BM_StageIntersections(benchmark::State& state) { RunStage(state, &Staged::segmented, &Frontend::FindEdges); }
+void BM_StageObjects(benchmark::State& state) { RunStage(state, &Staged::intersected, &Frontend::FindObjects); }
 
 // Without the segmenter's search for thin strips (organized.leftover_hypotheses: 0).
 void BM_FrontendNoStrips(benchmark::State& state) {

@@ -22,20 +22,8 @@ FrameModel Frontend::Process(const Cloud& cloud) const {
     model.reason = segmentation.reason;
     return model;
   }
-  // 3. Real intersections, eqs. (2)-(6); the floor and walls first, which end the edges that run
-  //    into them.
-  FindStructure(cloud, config_.graph, &model);
-  const Eigen::Vector3d up_prior = UpPrior(config_.graph);
-  const Eigen::Vector3d up = model.floor >= 0 ? model.planes[model.floor].plane.normal : up_prior;
-  EdgeTerminators terminators;
-  terminators.structure = model.structure;
-  terminators.up = up;
-  model.edges = FindIntersections(model.planes, cloud, camera_, config_.intersections, &terminators);
-  // 4. Plane graph, trihedral angles, objects aggregated angle by angle (the structure is known).
-  AggregateObjects(config_.graph, &model);
-  // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
-  MeasureObjects(cloud, config_.objects, up_prior, &model);
-  ClassifyObjects(patterns_, config_.objects, up, &model);
+  FindEdges(cloud, &model);
+  FindObjects(cloud, &model);
 
   if (model.planes.size() < 3) {
     model.reason = std::to_string(model.planes.size()) + " plane(s): a trihedral angle needs three";
@@ -47,6 +35,26 @@ FrameModel Frontend::Process(const Cloud& cloud) const {
     model.reason = "trihedral angles only between room structure (floor, walls): no object";
   }
   return model;
+}
+
+void Frontend::FindEdges(const Cloud& cloud, FrameModel* model) const {
+  // 3. Real intersections, eqs. (2)-(6); the floor and walls first, which end the edges that run
+  //    into them.
+  FindStructure(cloud, config_.graph, model);
+  EdgeTerminators terminators;
+  terminators.structure = model->structure;
+  terminators.up = model->floor >= 0 ? model->planes[model->floor].plane.normal : UpPrior(config_.graph);
+  model->edges = FindIntersections(model->planes, cloud, camera_, config_.intersections, &terminators);
+}
+
+void Frontend::FindObjects(const Cloud& cloud, FrameModel* model) const {
+  const Eigen::Vector3d up_prior = UpPrior(config_.graph);
+  const Eigen::Vector3d up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior;
+  // 4. Plane graph, trihedral angles, objects aggregated angle by angle (the structure is known).
+  AggregateObjects(config_.graph, model);
+  // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
+  MeasureObjects(cloud, config_.objects, up_prior, model);
+  ClassifyObjects(patterns_, config_.objects, up, model);
 }
 
 }  // namespace planemap

@@ -40,6 +40,12 @@ class Frontend {
   FrameModel Process(const RgbdFrame& frame) const;
   FrameModel Process(const Cloud& cloud) const;
 
+  // Process's stages after the planes, one by one (bench_frontend times each): 3. the floor and
+  // walls, then the real intersections, eqs. (2)-(6), on a model holding the planes; 4-5. the plane
+  // graph, trihedral angles and objects, then their sizes, centres (eq. 7), grasp sides and class.
+  void FindEdges(const Cloud& cloud, FrameModel* model) const;
+  void FindObjects(const Cloud& cloud, FrameModel* model) const;
+
  private:
   CameraIntrinsics camera_;
   FrontendConfig config_;
