@@ -289,6 +289,31 @@ double PlaneDistance(const Eigen::Vector3d& n, double d, const pcl::PointXYZRGB&
   return std::abs(n.x() * p.x + n.y() * p.y + n.z() * p.z + d);
 }
 
+// MSAC's truncated squared loss of the plane n.p + d = 0 on every stride-th of `pixels`, the
+// distances over half the inlier distance (the sample consensus of steps 4b and 5).
+double TruncatedCost(const Cloud& cloud, const std::vector<int>& pixels, size_t stride, const Eigen::Vector3d& n,
+                     double d, const OrganizedSegmenterConfig& c) {
+  double cost = 0.0;
+  for (size_t k = 0; k < pixels.size(); k += stride) {
+    const pcl::PointXYZRGB& p = cloud[pixels[k]];
+    const double r = PlaneDistance(n, d, p) / (0.5 * InlierDistance(c, p.z));
+    cost += std::min(1.0, r * r);
+  }
+  return cost;
+}
+
+// The plane through three of `pixels` drawn by `pick`; nothing when they are on one line.
+std::optional<Plane> PlaneThroughThree(const Cloud& cloud, const std::vector<int>& pixels,
+                                       std::uniform_int_distribution<size_t>& pick, std::mt19937& random) {
+  const Eigen::Vector3d a = cloud[pixels[pick(random)]].getVector3fMap().cast<double>();
+  const Eigen::Vector3d b = cloud[pixels[pick(random)]].getVector3fMap().cast<double>();
+  const Eigen::Vector3d e = cloud[pixels[pick(random)]].getVector3fMap().cast<double>();
+  Eigen::Vector3d n = (b - a).cross(e - a);
+  if (n.norm() < 1e-9) return std::nullopt;
+  n.normalize();
+  return Plane{n, -n.dot(a)};
+}
+
 // Step 5's check, for a plane robust_min_depth or farther: the share of its inliers farther than
 // half the inlier distance from it. Above robust_check_share, the plane most of them lie on by
 // sample consensus (MSAC's truncated squared loss on distances over half the inlier distance, as
@@ -311,27 +336,17 @@ std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vec
   double best_offset = fit.plane.offset, best_cost = std::numeric_limits<double>::infinity();
   int best_hypothesis = 0;
   for (int h = 0; h <= c.robust_hypotheses; ++h) {
-    Eigen::Vector3d n = fit.plane.normal;
-    double d = fit.plane.offset;
-    if (h > 0) {  // hypothesis 0: the least-squares plane itself
-      const Eigen::Vector3d a = cloud[inliers[pick(random)]].getVector3fMap().cast<double>();
-      const Eigen::Vector3d b = cloud[inliers[pick(random)]].getVector3fMap().cast<double>();
-      const Eigen::Vector3d e = cloud[inliers[pick(random)]].getVector3fMap().cast<double>();
-      n = (b - a).cross(e - a);
-      if (n.norm() < 1e-9) continue;
-      n.normalize();
-      d = -n.dot(a);
+    Plane hypothesis = fit.plane;  // hypothesis 0: the least-squares plane itself
+    if (h > 0) {
+      const std::optional<Plane> drawn = PlaneThroughThree(cloud, inliers, pick, random);
+      if (!drawn) continue;
+      hypothesis = *drawn;
     }
-    double cost = 0.0;
-    for (size_t k = 0; k < inliers.size(); k += stride) {
-      const pcl::PointXYZRGB& p = cloud[inliers[k]];
-      const double r = PlaneDistance(n, d, p) / (0.5 * limit(p));
-      cost += std::min(1.0, r * r);
-    }
+    const double cost = TruncatedCost(cloud, inliers, stride, hypothesis.normal, hypothesis.offset, c);
     if (cost < best_cost) {
       best_cost = cost;
-      best_normal = n;
-      best_offset = d;
+      best_normal = hypothesis.normal;
+      best_offset = hypothesis.offset;
       best_hypothesis = h;
     }
   }
@@ -395,29 +410,17 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
     std::sort(part.begin(), part.end());  // row order: the samples do not hang on the fill's order
     while (static_cast<int>(part.size()) >= min_inliers) {
       const size_t stride = std::max<size_t>(1, part.size() / 250);
-      auto score = [&](const Eigen::Vector3d& n, double d) {
-        double cost = 0.0;
-        for (size_t k = 0; k < part.size(); k += stride) {
-          const double r = PlaneDistance(n, d, cloud[part[k]]) / (0.5 * limit(cloud[part[k]]));
-          cost += std::min(1.0, r * r);
-        }
-        return cost;
-      };
       std::uniform_int_distribution<size_t> pick(0, part.size() - 1);
       Eigen::Vector3d best_normal = Eigen::Vector3d::UnitZ();
       double best_offset = 0.0, best_cost = std::numeric_limits<double>::infinity();
       for (int hypothesis = 0; hypothesis < c.leftover_hypotheses; ++hypothesis) {
-        const Eigen::Vector3d a = cloud[part[pick(random)]].getVector3fMap().cast<double>();
-        const Eigen::Vector3d b = cloud[part[pick(random)]].getVector3fMap().cast<double>();
-        const Eigen::Vector3d e = cloud[part[pick(random)]].getVector3fMap().cast<double>();
-        Eigen::Vector3d n = (b - a).cross(e - a);
-        if (n.norm() < 1e-9) continue;
-        n.normalize();
-        const double cost = score(n, -n.dot(a));
+        const std::optional<Plane> drawn = PlaneThroughThree(cloud, part, pick, random);
+        if (!drawn) continue;
+        const double cost = TruncatedCost(cloud, part, stride, drawn->normal, drawn->offset, c);
         if (cost < best_cost) {
           best_cost = cost;
-          best_normal = n;
-          best_offset = -n.dot(a);
+          best_normal = drawn->normal;
+          best_offset = drawn->offset;
         }
       }
       if (!std::isfinite(best_cost)) break;
@@ -427,7 +430,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
         if (PlaneDistance(best_normal, best_offset, p) < 0.5 * limit(p)) held.Add(p.getVector3fMap().cast<double>(), DepthNoiseWeight(p.z));
       }
       const PlaneFit refit = FitPlane(held);
-      if (refit.ok && score(refit.plane.normal, refit.plane.offset) < best_cost) {
+      if (refit.ok && TruncatedCost(cloud, part, stride, refit.plane.normal, refit.plane.offset, c) < best_cost) {
         best_normal = refit.plane.normal;
         best_offset = refit.plane.offset;
       }
