@@ -13,7 +13,7 @@ if [ "${1:-}" = "--sanitize" ]; then
     -DPLANEMAP_SANITIZE=ON -DPLANEMAP_BUILD_BENCH=OFF
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-  # The sanitized build runs every test but the longest rendered runs (4-9 min each there), whose
+  # The sanitized build runs every test but the longest rendered runs (2-4 min and more each there), whose
   # code paths shorter tests take: the walks but the default one tracked (refined: the map --refine
   # CLI test), the rendered tracking stretches (single wall, near a box, facing a shelf, a far
   # wall), the rendered merge and the seeded consistency runs, whose units have their own tests
