@@ -43,13 +43,15 @@ bool IsTable(std::uint32_t label) { return label >= 1 && label <= 9; }
 // A labelled face: its normal, toward the camera, and its pixels (v * width + u, ascending).
 struct LabelledFace {
   Eigen::Vector3d normal;
+  double offset = 0.0;  // n.p + offset = 0 [m]
   std::vector<int> points;
 };
 
 // The largest 4-connected piece in the image of a RANSAC plane's inliers (given as positions in
 // indices), refitted by least squares: a face is one connected patch, and labels sometimes hold a
 // stray patch of points elsewhere that lies near the plane by chance and would tilt it.
-LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, const pcl::Indices& inliers, Eigen::Vector3d n) {
+LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, const pcl::Indices& inliers,
+                          const Eigen::Vector3d& n, double offset) {
   cv::Mat1b mask = cv::Mat1b::zeros(cloud.height, cloud.width);
   for (int i : inliers) mask(indices[i] / cloud.width, indices[i] % cloud.width) = 1;
   cv::Mat1i pieces, stats;
@@ -59,7 +61,7 @@ LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, c
   for (int k = 2; k < count; ++k) {
     if (stats(k, cv::CC_STAT_AREA) > stats(largest, cv::CC_STAT_AREA)) largest = k;
   }
-  LabelledFace face{n, {}};
+  LabelledFace face{n, offset, {}};
   PointMoments moments;
   for (int v = 0; v < pieces.rows; ++v) {
     for (int u = 0; u < pieces.cols; ++u) {
@@ -69,7 +71,10 @@ LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, c
     }
   }
   const PlaneFit fit = FitPlane(moments);
-  if (fit.ok) face.normal = fit.plane.normal;
+  if (fit.ok) {
+    face.normal = fit.plane.normal;
+    face.offset = fit.plane.offset;
+  }
   return face;
 }
 
@@ -95,10 +100,14 @@ std::vector<LabelledFace> SacPlanes(const Cloud& cloud, const std::vector<int>& 
     sac.segment(inliers, c);
     if (inliers.indices.size() < 400) break;
     Eigen::Vector3d n(c.values[0], c.values[1], c.values[2]);
+    double offset = c.values[3] / n.norm();
     n.normalize();
-    if (n.dot((*points)[inliers.indices[0]].getVector3fMap().cast<double>()) > 0) n = -n;
+    if (offset < 0) {  // toward the camera at the origin
+      n = -n;
+      offset = -offset;
+    }
     std::sort(inliers.indices.begin(), inliers.indices.end());
-    faces.push_back(LargestPiece(cloud, indices, inliers.indices, n));
+    faces.push_back(LargestPiece(cloud, indices, inliers.indices, n, offset));
     auto next = std::make_shared<pcl::Indices>();
     std::set_difference(remaining->begin(), remaining->end(), inliers.indices.begin(), inliers.indices.end(),
                         std::back_inserter(*next));
@@ -257,10 +266,18 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
       if (!found->dimension_complete[k]) continue;
       std::vector<double> along;
       for (int i : truth) along.push_back(found->axes.col(k).dot((*pcd.cloud)[i].getVector3fMap().cast<double>()));
-      const double measured = Percentile(along, 0.99) - Percentile(along, 0.01);
+      double measured = Percentile(along, 0.99) - Percentile(along, 0.01);
+      // A box standing on the table (its labelled points reach within 2 cm of it) is as tall as
+      // its top is above the table: the labels of a box's sides may stop short of the table
+      // (learn2's 13 mm above it, others' 2-6 mm).
+      if (std::abs(found->axes.col(k).dot(table_up)) > std::cos(10.0 / kRadToDeg)) {
+        std::vector<double> height;
+        for (int i : truth) height.push_back(table_up.dot((*pcd.cloud)[i].getVector3fMap().cast<double>()) + table[0].offset);
+        if (Percentile(height, 0.01) < 0.02) measured = Percentile(height, 0.99);
+      }
       f->dimension_error.push_back(std::abs(found->dimensions[k] - measured));
       if (std::abs(found->dimensions[k] - measured) > 0.01) {
-        std::printf("learn%d box %d: dimension %d is %.1f mm, labelled extent %.1f mm\n", index, box, k,
+        std::printf("learn%d box %d: dimension %d is %.1f mm, labelled %.1f mm\n", index, box, k,
                     1000 * found->dimensions[k], 1000 * measured);
       }
       ++f->complete_dimensions;
@@ -278,7 +295,7 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
               "found as objects: %d\n  IoU with labelled points median %.2f (min %.2f); faces' normals vs labelled faces' "
               "median %.1f, worst %.1f deg\n  faces off 90 deg median %.1f, worst %.1f deg (labelled faces: median %.1f, "
               "worst %.1f); angles between faces vs between labelled faces: median %.1f, worst %.1f deg, %d of %d "
-              "pairs over 5 deg (%d unmatched)\n  %d complete dimensions, |error| vs labelled extent median %.1f mm, worst %.1f mm\n",
+              "pairs over 5 deg (%d unmatched)\n  %d complete dimensions, |error| vs labelled size median %.1f mm, worst %.1f mm\n",
               f.table_found, f.scenes, f.table_in_object, f.boxes_with_three_faces, f.found, median(f.iou),
               f.iou.empty() ? 0.0 : *std::min_element(f.iou.begin(), f.iou.end()), median(f.normal_error_deg),
               worst(f.normal_error_deg), median(f.perpendicular_error_deg), worst(f.perpendicular_error_deg),
@@ -312,14 +329,15 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   // pairs are within 5 deg of it but one, 5.2 deg: learn17's upper box, whose left side also holds
   // a band 6-14 px wide along its lower edge that the labels give to the box below (2.4 mm median
   // from the side's plane, 20 mm from the lower box's side), which turns it 5.8 deg from its
-  // labelled face. Complete dimensions are within 1 cm of the labelled extent but one, 10.2 mm
-  // over (learn2: its side faces reach the table, but the labels stop about a centimetre above
-  // it, where some 400 points on the faces' planes are unlabelled).
-  // What is asserted: the table, the boxes found so far, that what is found is right (faces'
+  // labelled face. Complete dimensions are within 1 cm of the labelled size (the labelled points'
+  // extent; for a box standing on the table, its height is its top's above the table: learn2's
+  // labels stop 13 mm above the table, where some 400 points on its faces' planes are unlabelled,
+  // and its height measured 10.2 mm over the labelled extent is 2.8 mm under its top's height).
+  // What is asserted: the table, the boxes found so far, and that what is found is right: faces'
   // normals as close to the labelled faces' as the simulated frames' bound, 1 deg, at the
-  // median), and that a dimension called complete is never grossly wrong (an occluded edge once
-  // passed for a whole one, 22 cm short; learn18's bottom edge, ending in the front box's shadow,
-  // 11 cm short):
+  // median; the angles between faces; every complete dimension within 1 cm (an occluded edge
+  // once passed for a whole one, 22 cm short; learn18's bottom edge, ending in the front box's
+  // shadow, 11 cm short):
   EXPECT_EQ(f.boxes_with_three_faces, 13);
   ASSERT_GE(f.found, 11);
   EXPECT_GE(*std::min_element(f.iou.begin(), f.iou.end()), 0.8);
@@ -328,7 +346,7 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   EXPECT_LE(std::count_if(f.angle_error_deg.begin(), f.angle_error_deg.end(), [](double e) { return e > 5.0; }), 1);
   EXPECT_LE(median(f.perpendicular_error_deg), 5.0) << "deg";
   EXPECT_LE(median(f.dimension_error), 0.01) << "m";
-  EXPECT_LE(worst(f.dimension_error), 0.015) << "m";
+  EXPECT_LE(worst(f.dimension_error), 0.01) << "m";
 }
 
 TEST(RealFrames, EdgesEndWhereTheCameraSeesThemEnd) {
