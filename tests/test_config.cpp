@@ -92,7 +92,8 @@ TEST(CameraFiles, KeysLeftOutKeepDefaults) {
 
 TEST(AppConfigFile, DefaultYamlEqualsTheDefaultsInCode) {
   const AppConfig loaded = LoadConfigFile<AppConfig>(SourcePath("configs/default.yaml"));
-  EXPECT_EQ(YAML::Dump(ConfigToYaml(loaded)), YAML::Dump(ConfigToYaml(AppConfig{})));
+  const AppConfig defaults;
+  EXPECT_EQ(YAML::Dump(ConfigToYaml(loaded)), YAML::Dump(ConfigToYaml(defaults)));
   EXPECT_NO_THROW(ValidateConfig(loaded));
   EXPECT_DOUBLE_EQ(loaded.dataset.max_association_gap, 0.02);  // [s]
   EXPECT_DOUBLE_EQ(loaded.render.noise.sigma_coefficient, 0.001425);
@@ -117,7 +118,8 @@ TEST(AppConfigFile, EmptyFileGivesDefaults) {
   TempDir dir;
   const std::string file = dir.Write("empty.yaml", "# nothing set\n");
   const AppConfig loaded = LoadConfigFile<AppConfig>(file);
-  EXPECT_EQ(YAML::Dump(ConfigToYaml(loaded)), YAML::Dump(ConfigToYaml(AppConfig{})));
+  const AppConfig defaults;
+  EXPECT_EQ(YAML::Dump(ConfigToYaml(loaded)), YAML::Dump(ConfigToYaml(defaults)));
 }
 
 // --- Errors ------------------------------------------------------------------------------------
@@ -238,7 +240,8 @@ TEST(ValidateConfig, NestedFieldIsNamedWithItsPath) {
 
 TEST(ValidateConfig, DefaultsPass) {
   EXPECT_NO_THROW(ValidateConfig(CameraIntrinsics{}));
-  EXPECT_NO_THROW(ValidateConfig(AppConfig{}));
+  const AppConfig defaults;
+  EXPECT_NO_THROW(ValidateConfig(defaults));
 }
 
 }  // namespace

@@ -49,10 +49,18 @@ std::vector<Plane> RandomPlanes(int count, std::mt19937_64& rng) {
   }
 }
 
+// A pair with the other members at their defaults (weight 1, no source point, a group of its own).
+PlaneCorrespondence Pair(const Plane& source, const Plane& target) {
+  PlaneCorrespondence pair;
+  pair.source = source;
+  pair.target = target;
+  return pair;
+}
+
 // Each target plane paired with itself seen from the source frame.
 std::vector<PlaneCorrespondence> Correspond(const std::vector<Plane>& target, const Pose3& T_target_source) {
   std::vector<PlaneCorrespondence> pairs;
-  for (const Plane& t : target) pairs.push_back({TransformPlane(T_target_source.inverse(), t), t});
+  for (const Plane& t : target) pairs.push_back(Pair(TransformPlane(T_target_source.inverse(), t), t));
   return pairs;
 }
 
@@ -196,8 +204,8 @@ TEST(PlaneRansac, PlantedWrongCorrespondencesAreNotInliersAndThePoseIsExact) {
   std::vector<PlaneCorrespondence> pairs = Correspond(planes, truth);
   // Wrong pairs in the middle of the list: plane 0 seen from the source matched to plane 1's
   // target (swapped), and plane 2 matched to its target moved by 0.5 m.
-  const PlaneCorrespondence swapped{pairs[0].source, pairs[1].target};
-  const PlaneCorrespondence moved{pairs[2].source, Plane{pairs[2].target.normal, pairs[2].target.offset + 0.5}};
+  const PlaneCorrespondence swapped = Pair(pairs[0].source, pairs[1].target);
+  const PlaneCorrespondence moved = Pair(pairs[2].source, Plane{pairs[2].target.normal, pairs[2].target.offset + 0.5});
   pairs.insert(pairs.begin() + 2, swapped);
   pairs.insert(pairs.begin() + 5, moved);  // indices 2 and 5 are wrong
   const std::vector<int> correct = {0, 1, 3, 4, 6, 7};
@@ -227,8 +235,8 @@ TEST(PlaneRansac, NoisyPlanesKeepTheRightInliers) {
     p.source = Perturb(p.source, 0.3 * kRadPerDeg, 0.003, rng);
     p.target = Perturb(p.target, 0.3 * kRadPerDeg, 0.003, rng);
   }
-  pairs.push_back({pairs[0].source, pairs[3].target});
-  pairs.push_back({pairs[4].source, Plane{pairs[4].target.normal, pairs[4].target.offset - 0.5}});
+  pairs.push_back(Pair(pairs[0].source, pairs[3].target));
+  pairs.push_back(Pair(pairs[4].source, Plane{pairs[4].target.normal, pairs[4].target.offset - 0.5}));
   const PlaneRansacResult result = EstimatePoseRansac(pairs, PlaneRansacConfig{});
   ASSERT_TRUE(result.ok) << result.reason;
   EXPECT_EQ(result.inliers, (std::vector<int>{0, 1, 2, 3, 4, 5}));
@@ -239,7 +247,7 @@ TEST(PlaneRansac, FourCorrespondencesTryEveryTriple) {
   std::mt19937_64 rng(31);
   const Pose3 truth = RandomPose(rng, 1.0);
   std::vector<PlaneCorrespondence> pairs = Correspond(RandomPlanes(3, rng), truth);
-  pairs.insert(pairs.begin(), PlaneCorrespondence{pairs[1].source, Plane{pairs[1].target.normal, pairs[1].target.offset + 0.5}});
+  pairs.insert(pairs.begin(), Pair(pairs[1].source, Plane{pairs[1].target.normal, pairs[1].target.offset + 0.5}));
   PlaneRansacConfig config;
   config.max_iterations = 1;  // ignored: all 4 triples are tried
   const PlaneRansacResult result = EstimatePoseRansac(pairs, config);

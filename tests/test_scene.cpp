@@ -53,7 +53,9 @@ TEST(Scene, EveryShippedSceneLoadsWithABoxToGraspOnTheFloor) {
     }
     EXPECT_GE(boxes, 1);
     // A room the robot is sent into names the box it is sent for (the office is a mapping scene).
-    if (entry.path().stem() != "office") EXPECT_NE(scene.task_object, "");
+    if (entry.path().stem() != "office") {
+      EXPECT_NE(scene.task_object, "");
+    }
   }
   EXPECT_GE(scenes, 18);  // default, office, storeroom, lab, hall, workshop, corridor, garage, studio, loft, atelier,
                           // hideout, gallery, cellar, pantry, foyer, scullery, vestibule

@@ -246,7 +246,9 @@ TEST(Tracking, FacingOnePlaneWithOdometryThePoseIsLostByMotionNotByFrames) {
       const TrackResult r = views.Track(tracker, T_world_camera, k, k / 15.0, odometry);
       if (r.status == TrackStatus::kLost && first_lost[run] < 0) first_lost[run] = k;
       if (run == 1) error = std::max(error, (r.T_world_camera.translation() - T_world_camera.translation()).norm());
-      if (k == 0) EXPECT_EQ(r.planes, 1) << "the shelf's front only";
+      if (k == 0) {
+        EXPECT_EQ(r.planes, 1) << "the shelf's front only";
+      }
     }
   }
   std::printf("facing the atelier's shelf %d frames: first lost frame without odometry %d, standing with odometry %d "
