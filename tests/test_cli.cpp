@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "planemap/apps/study.h"
+#include "planemap/core/trajectory_eval.h"
 #include "planemap/core/tum_format.h"
 #include "planemap/io/plane_map_io.h"
 #include "test_support.h"
@@ -19,6 +20,7 @@
 namespace planemap {
 namespace {
 
+using planemap::testing::SharedPath;
 using planemap::testing::SourcePath;
 using planemap::testing::TempDir;
 
@@ -302,6 +304,29 @@ TEST(Cli, MapRefineWritesTheRefinedTrajectoryAndTheBoxesUncertainty) {
     }
   }
   EXPECT_GE(boxes, 1);
+}
+
+TEST(Cli, MapRefineOnARealSequenceStaysNearTracking) {
+  // TUM fr1/rpy, 100 frames of a handheld Kinect turning 1-4 deg a frame: real plane observations
+  // are off their landmarks by more than the rendered ones (the median about 1 deg). With outlier
+  // gates fixed at 1 deg / 1 cm the batch dropped 778 of 1361 observations and ended at 9.73 cm
+  // ATE against tracking's 4.29; the gates now widen to 3 robust standard deviations of the
+  // residuals (backend.outlier_spread_factor).
+  TempDir dir;
+  const std::string slice = SharedPath("data/tum_fr1_rpy_slice");
+  const CommandRun run = Planemap("map " + slice + " --camera " + SourcePath("configs/cameras/tum_fr1.yaml") +
+                                  " --refine --out " + dir.File("m"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const Trajectory truth = ReadTumTrajectory(slice + "/groundtruth.txt");
+  const TrajectoryEvaluation tracked =
+      EvaluateTrajectory(truth, ReadTumTrajectory(dir.File("m/trajectory.txt")), EvalConfig{}, "truth", "tracking");
+  const TrajectoryEvaluation refined =
+      EvaluateTrajectory(truth, ReadTumTrajectory(dir.File("m/trajectory_refined.txt")), EvalConfig{}, "truth", "batch");
+  std::printf("tum_fr1_rpy_slice: ATE RMSE tracking %.2f cm, batch %.2f cm\n", 100 * tracked.ate.translation.rmse,
+              100 * refined.ate.translation.rmse);
+  EXPECT_EQ(refined.pairs, 100u);
+  // Not better than tracking there (README, "Where it falls short"), but within 10% of it.
+  EXPECT_LE(refined.ate.translation.rmse, 1.1 * tracked.ate.translation.rmse) << "m";
 }
 
 // The page inlines three.js from web/node_modules, which scripts/setup.sh installs.

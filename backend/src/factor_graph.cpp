@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "planemap/core/statistics.h"
 #include "planemap/factors/box_contact_factor.h"
 #include "planemap/factors/box_face_factor.h"
 #include "planemap/factors/edge_length_factor.h"
@@ -305,15 +306,25 @@ SolveReport FactorGraph::Solve() {
   int outliers = 0;
   const double max_angle = config_.outlier_max_angle_deg * kDegToRad;
   for (int round = 0; spec_.drop_outliers && round < config_.outlier_rounds && summary.IsSolutionUsable(); ++round) {
-    std::vector<Observed> kept;
+    std::vector<double> angles, distances;
     for (const Observed& o : observations_) {
       const Plane in_camera = TransformPlane(pose(o.pose).inverse(), WorldPlane(o.landmark));
-      const double angle = std::acos(std::clamp(in_camera.normal.dot(o.observation->plane.normal), -1.0, 1.0));
-      const double distance = std::abs(in_camera.SignedDistance(o.observation->centroid));
+      angles.push_back(std::acos(std::clamp(in_camera.normal.dot(o.observation->plane.normal), -1.0, 1.0)));
+      distances.push_back(std::abs(in_camera.SignedDistance(o.observation->centroid)));
+    }
+    // The gates widen to outlier_spread_factor robust standard deviations of all the residuals
+    // (1.4826 x their median) where the data are that far off as a whole.
+    const double angle_gate = std::max(max_angle, config_.outlier_spread_factor * 1.4826 * Percentile(angles, 0.5));
+    const double distance_gate =
+        std::max(config_.outlier_max_distance, config_.outlier_spread_factor * 1.4826 * Percentile(distances, 0.5));
+    std::vector<Observed> kept;
+    for (size_t k = 0; k < observations_.size(); ++k) {
+      const Observed& o = observations_[k];
+      const double angle = angles[k], distance = distances[k];
       // Off by more than the gate and more than outlier_max_sigma of its own uncertainty (a far,
       // small plane's normal is only known to a degree or two).
-      if (angle > std::max(max_angle, config_.outlier_max_sigma * o.normal_std) ||
-          distance > std::max(config_.outlier_max_distance, config_.outlier_max_sigma * o.offset_std)) {
+      if (angle > std::max(angle_gate, config_.outlier_max_sigma * o.normal_std) ||
+          distance > std::max(distance_gate, config_.outlier_max_sigma * o.offset_std)) {
         problem_.RemoveResidualBlock(o.block);
         ++outliers;
       } else {

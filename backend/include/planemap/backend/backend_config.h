@@ -64,10 +64,14 @@ struct BackendConfig {
   // An observation that, placed at the solution, is more than outlier_max_angle_deg off its
   // landmark or whose centroid is more than outlier_max_distance from it (a wrong association, or
   // a surface one plane cannot hold) is dropped and the problem solved again, outlier_rounds times.
+  // The gates widen to outlier_spread_factor robust standard deviations (1.4826 x the median) of
+  // all the observations' residuals when those are larger: real plane observations are about
+  // 1 deg off their landmarks at the median (TUM fr1/rpy), and fixed gates dropped 57% of them.
   int outlier_rounds = 2;
   double outlier_max_angle_deg = 1.0;  // [deg]
   double outlier_max_distance = 0.01;  // [m]
   double outlier_max_sigma = 3.0;      // ... and by more than this many of its own standard deviations
+  double outlier_spread_factor = 3.0;  // ... and of the residuals' robust standard deviation [ratio]
   // One floor: a landmark within these of the map's floor that frames took for the floor is
   // observed as the floor (0 distance: off).
   double floor_merge_distance = 0.10;   // [m]
@@ -116,6 +120,7 @@ struct BackendConfig {
     v("structure_max_deviation_deg", structure_max_deviation_deg, Check::kPositive);
     v("outlier_rounds", outlier_rounds, Check::kNonNegative);
     v("outlier_max_angle_deg", outlier_max_angle_deg, Check::kPositive);
+    v("outlier_spread_factor", outlier_spread_factor, Check::kNonNegative);
     v("outlier_max_distance", outlier_max_distance, Check::kPositive);
     v("outlier_max_sigma", outlier_max_sigma, Check::kPositive);
     v("floor_merge_distance", floor_merge_distance, Check::kNonNegative);
