@@ -40,10 +40,9 @@ Frontend MakeFrontend(const FrontendConfig& config = FrontendConfig{}) {
 int ObjectOf(std::uint32_t label) { return label >= 20 ? static_cast<int>(label / 10) - 1 : 0; }
 bool IsTable(std::uint32_t label) { return label >= 1 && label <= 9; }
 
-// A labelled face: its normal, toward the camera, and its pixels (v * width + u, ascending).
+// A labelled face: its plane (normal toward the camera) and its pixels (v * width + u, ascending).
 struct LabelledFace {
-  Eigen::Vector3d normal;
-  double offset = 0.0;  // n.p + offset = 0 [m]
+  Plane plane;
   std::vector<int> points;
 };
 
@@ -51,7 +50,7 @@ struct LabelledFace {
 // indices), refitted by least squares: a face is one connected patch, and labels sometimes hold a
 // stray patch of points elsewhere that lies near the plane by chance and would tilt it.
 LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, const pcl::Indices& inliers,
-                          const Eigen::Vector3d& n, double offset) {
+                          const Plane& ransac) {
   cv::Mat1b mask = cv::Mat1b::zeros(cloud.height, cloud.width);
   for (int i : inliers) mask(indices[i] / cloud.width, indices[i] % cloud.width) = 1;
   cv::Mat1i pieces, stats;
@@ -61,7 +60,7 @@ LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, c
   for (int k = 2; k < count; ++k) {
     if (stats(k, cv::CC_STAT_AREA) > stats(largest, cv::CC_STAT_AREA)) largest = k;
   }
-  LabelledFace face{n, offset, {}};
+  LabelledFace face{ransac, {}};
   PointMoments moments;
   for (int v = 0; v < pieces.rows; ++v) {
     for (int u = 0; u < pieces.cols; ++u) {
@@ -71,10 +70,7 @@ LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, c
     }
   }
   const PlaneFit fit = FitPlane(moments);
-  if (fit.ok) {
-    face.normal = fit.plane.normal;
-    face.offset = fit.plane.offset;
-  }
+  if (fit.ok) face.plane = fit.plane;
   return face;
 }
 
@@ -107,7 +103,7 @@ std::vector<LabelledFace> SacPlanes(const Cloud& cloud, const std::vector<int>& 
       offset = -offset;
     }
     std::sort(inliers.indices.begin(), inliers.indices.end());
-    faces.push_back(LargestPiece(cloud, indices, inliers.indices, n, offset));
+    faces.push_back(LargestPiece(cloud, indices, inliers.indices, Plane{n, offset}));
     auto next = std::make_shared<pcl::Indices>();
     std::set_difference(remaining->begin(), remaining->end(), inliers.indices.begin(), inliers.indices.end(),
                         std::back_inserter(*next));
@@ -172,7 +168,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
   }
   const std::vector<LabelledFace> table = SacPlanes(*pcd.cloud, table_points, 1);
   ASSERT_EQ(table.size(), 1u) << "learn" << index << ": no plane through the table's labelled points";
-  const Eigen::Vector3d table_up = table[0].normal;
+  const Eigen::Vector3d table_up = table[0].plane.normal;
   // Which labelled box each detected plane belongs to (70% of its inliers).
   std::map<int, std::vector<int>> planes_of_box;
   for (const DetectedPlane& p : model.planes) {
@@ -186,7 +182,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
     // Does the box show its top and two sides? Decided from its labelled points, not from what
     // the frontend found.
     std::vector<Eigen::Vector3d> face_normals;
-    for (const LabelledFace& face : faces) face_normals.push_back(face.normal);
+    for (const LabelledFace& face : faces) face_normals.push_back(face.plane.normal);
     if (!TopAndTwoSides(face_normals, table_up)) continue;
     ++f->boxes_with_three_faces;
     // Found: an object whose faces are all this box's, among them its top and two sides.
@@ -230,7 +226,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
       }
       if (truth_of[a] == nullptr) continue;
       const DetectedPlane& p = model.planes[found->planes[a]];
-      f->normal_error_deg.push_back(std::acos(std::min(1.0, std::abs(p.plane.normal.dot(truth_of[a]->normal)))) * kRadToDeg);
+      f->normal_error_deg.push_back(NormalAngle(p.plane, truth_of[a]->plane) * kRadToDeg);
       if (f->normal_error_deg.back() > 3.0) {
         std::printf("learn%d box %d: plane %d (%zu px, rms %.1f mm) is %.1f deg from its labelled face (%zu px, %zu in common)\n",
                     index, box, p.id, p.inliers.size(), 1000 * p.rms, f->normal_error_deg.back(), truth_of[a]->points.size(), best);
@@ -238,18 +234,15 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
     }
     // Faces mutually perpendicular, and the angles between them against those between their
     // labelled faces (cartons are not square to 5 deg: see below).
-    auto angle_deg = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-      return std::acos(std::min(1.0, std::abs(a.dot(b)))) * kRadToDeg;
-    };
     for (size_t a = 0; a < found->planes.size(); ++a) {
       for (size_t b = a + 1; b < found->planes.size(); ++b) {
         const DetectedPlane& pa = model.planes[found->planes[a]];
         const DetectedPlane& pb = model.planes[found->planes[b]];
-        const double angle = angle_deg(pa.plane.normal, pb.plane.normal);
+        const double angle = NormalAngle(pa.plane, pb.plane) * kRadToDeg;
         f->perpendicular_error_deg.push_back(std::abs(angle - 90.0));
         double labelled = std::nan("");
         if (truth_of[a] != nullptr && truth_of[b] != nullptr && truth_of[a] != truth_of[b]) {
-          labelled = angle_deg(truth_of[a]->normal, truth_of[b]->normal);
+          labelled = NormalAngle(truth_of[a]->plane, truth_of[b]->plane) * kRadToDeg;
           f->labelled_perpendicular_error_deg.push_back(std::abs(labelled - 90.0));
           f->angle_error_deg.push_back(std::abs(angle - labelled));
         } else {
@@ -273,7 +266,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
       // (learn2's 13 mm above it, others' 2-6 mm).
       if (std::abs(found->axes.col(k).dot(table_up)) > std::cos(10.0 / kRadToDeg)) {
         std::vector<double> height;
-        for (int i : truth) height.push_back(table_up.dot((*pcd.cloud)[i].getVector3fMap().cast<double>()) + table[0].offset);
+        for (int i : truth) height.push_back(table_up.dot((*pcd.cloud)[i].getVector3fMap().cast<double>()) + table[0].plane.offset);
         if (Percentile(height, 0.01) < 0.02) measured = Percentile(height, 0.99);
       }
       f->dimension_error.push_back(std::abs(found->dimensions[k] - measured));

@@ -43,18 +43,20 @@ void Frontend::FindEdges(const Cloud& cloud, FrameModel* model) const {
   FindStructure(cloud, config_.graph, model);
   EdgeTerminators terminators;
   terminators.structure = model->structure;
-  terminators.up = model->floor >= 0 ? model->planes[model->floor].plane.normal : UpPrior(config_.graph);
+  terminators.up = Up(*model);
   model->edges = FindIntersections(model->planes, cloud, camera_, config_.intersections, &terminators);
 }
 
 void Frontend::FindObjects(const Cloud& cloud, FrameModel* model) const {
-  const Eigen::Vector3d up_prior = UpPrior(config_.graph);
-  const Eigen::Vector3d up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior;
   // 4. Plane graph, trihedral angles, objects aggregated angle by angle (the structure is known).
   AggregateObjects(config_.graph, model);
   // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
-  MeasureObjects(cloud, config_.objects, up_prior, model);
-  ClassifyObjects(patterns_, config_.objects, up, model);
+  MeasureObjects(cloud, config_.objects, UpPrior(config_.graph), model);
+  ClassifyObjects(patterns_, config_.objects, Up(*model), model);
+}
+
+Eigen::Vector3d Frontend::Up(const FrameModel& model) const {
+  return model.floor >= 0 ? model.planes[model.floor].plane.normal : UpPrior(config_.graph);
 }
 
 }  // namespace planemap

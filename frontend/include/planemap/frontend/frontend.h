@@ -47,6 +47,9 @@ class Frontend {
   void FindObjects(const Cloud& cloud, FrameModel* model) const;
 
  private:
+  // The floor's normal, or the configured prior when no floor was found.
+  Eigen::Vector3d Up(const FrameModel& model) const;
+
   CameraIntrinsics camera_;
   FrontendConfig config_;
   PatternsConfig patterns_;
