@@ -417,14 +417,14 @@ PlaneMap SearchRoom(bool decided) {
 
 TEST(Search, CandidatesAreLowNarrowFacesNoMeasuredObjectExplains) {
   const SearchConfig config;
-  std::vector<SearchCandidate> c = SearchCandidates(SearchRoom(true), Pose2{}, config, TargetDescription{"box"});
+  std::vector<SearchCandidate> c = SearchCandidates(SearchRoom(true), Pose2{}, config, TargetDescription{});
   ASSERT_EQ(c.size(), 1u);  // not the floor, the wall, the chair's face, the face seen once, the door, the leg
   EXPECT_EQ(c[0].landmark, 2);
   EXPECT_LT(100.0 * (c[0].center - Eigen::Vector2d(2.5, 0.3)).norm(), 1.0);
   EXPECT_LT(std::acos(c[0].normal.dot(-Eigen::Vector2d::UnitX())) / kDeg, 1.0);
   EXPECT_NEAR(c[0].distance, std::hypot(2.5, 0.3), 0.01);
   // With its height unmeasured the "chair" may be a box whose top went unseen: nearer, first.
-  c = SearchCandidates(SearchRoom(false), Pose2{}, config, TargetDescription{"box"});
+  c = SearchCandidates(SearchRoom(false), Pose2{}, config, TargetDescription{});
   ASSERT_EQ(c.size(), 2u);
   EXPECT_EQ(c[0].landmark, 3);
   EXPECT_EQ(c[1].landmark, 2);
@@ -436,7 +436,7 @@ TEST(Search, CandidatesAreLowNarrowFacesNoMeasuredObjectExplains) {
   c = SearchCandidates(crate, Pose2{}, config, parcel);
   ASSERT_EQ(c.size(), 1u);
   EXPECT_EQ(c[0].landmark, 2);
-  EXPECT_EQ(SearchCandidates(crate, Pose2{}, config, TargetDescription{"box"}).size(), 2u) << "any size";
+  EXPECT_EQ(SearchCandidates(crate, Pose2{}, config, TargetDescription{}).size(), 2u) << "any size";
 }
 
 TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
@@ -448,7 +448,7 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
     config.turns_max = 0;  // with no view left it would turn on the spot (WithNoViewToWalkToItTurnsOnTheSpot)
     Search search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
     std::string why;
-    ASSERT_TRUE(search.Next(map, Pose2{}, TargetDescription{"box"}, &why)) << why;
+    ASSERT_TRUE(search.Next(map, Pose2{}, TargetDescription{}, &why)) << why;
     ASSERT_EQ(search.Viewpoints().size(), 1u);
     const Viewpoint v = search.Viewpoints()[0];
     const Eigen::Vector2d off = v.pose.Position() - v.candidate.center;
@@ -464,7 +464,7 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
     EXPECT_NE(search.Status().reason.find("the viewpoint"), std::string::npos) << search.Status().reason;
     EXPECT_LT(100.0 * (robot.TruePose().Position() - v.pose.Position()).norm(), 3.0);
     EXPECT_LT(std::abs(WrapAngle(robot.TruePose().theta - v.pose.theta)) / kDeg, 3.0);
-    EXPECT_FALSE(search.Next(map, robot.TruePose(), TargetDescription{"box"}, &why));
+    EXPECT_FALSE(search.Next(map, robot.TruePose(), TargetDescription{}, &why));
     EXPECT_NE(why.find("every candidate face was looked at again (1 viewpoints)"), std::string::npos) << why;
   }
   FakeHumanoid robot({}, {}, 1);
@@ -472,7 +472,7 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
   none.views_max = 0;
   std::string why;
   EXPECT_FALSE(Search(none, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot)
-                   .Next(SearchRoom(true), Pose2{}, TargetDescription{"box"}, &why));
+                   .Next(SearchRoom(true), Pose2{}, TargetDescription{}, &why));
   EXPECT_NE(why.find("search.views_max"), std::string::npos) << why;
   PlaneMap bare = SearchRoom(true);  // floor and wall only
   bare.landmarks.resize(2);
@@ -480,7 +480,7 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
   SearchConfig no_turns;
   no_turns.turns_max = 0;
   EXPECT_FALSE(Search(no_turns, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot)
-                   .Next(bare, Pose2{}, TargetDescription{"box"}, &why));
+                   .Next(bare, Pose2{}, TargetDescription{}, &why));
   EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
   SearchConfig bad;
   bad.view_distance = 0.0;
@@ -549,7 +549,7 @@ TEST(Search, WithNoCandidateFaceItWalksToWhereTheUnseenFloorComesIntoView) {
   FakeHumanoid robot({}, {}, 1);
   Search search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
   std::string why;
-  ASSERT_TRUE(search.Next(map, Pose2{}, TargetDescription{"box"}, &why)) << why;
+  ASSERT_TRUE(search.Next(map, Pose2{}, TargetDescription{}, &why)) << why;
   ASSERT_EQ(search.Viewpoints().size(), 1u);
   EXPECT_TRUE(search.Viewpoints()[0].Explores());
   EXPECT_NEAR(search.Viewpoints()[0].unseen_area, best.unseen_area, 1e-9);
@@ -558,9 +558,9 @@ TEST(Search, WithNoCandidateFaceItWalksToWhereTheUnseenFloorComesIntoView) {
   PlaneMap glimpsed = map;
   glimpsed.landmarks.push_back(Rectangle(2, {2.5, 0.0, 0.13}, kY, 0.15, kZ, 0.13));
   glimpsed.landmarks.back().observations = 10;
-  ASSERT_EQ(SearchCandidates(glimpsed, Pose2{}, config, TargetDescription{"box"}).size(), 1u);
+  ASSERT_EQ(SearchCandidates(glimpsed, Pose2{}, config, TargetDescription{}).size(), 1u);
   Search again(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
-  ASSERT_TRUE(again.Next(glimpsed, Pose2{}, TargetDescription{"box"}, &why)) << why;
+  ASSERT_TRUE(again.Next(glimpsed, Pose2{}, TargetDescription{}, &why)) << why;
   EXPECT_TRUE(again.Viewpoints()[0].Explores());
   PlaneMap seen = map;
   seen.landmarks[0] = Rectangle(0, {2.0, 0.0, 0.0}, kX, 2.5, kY, 2.0);
@@ -568,11 +568,11 @@ TEST(Search, WithNoCandidateFaceItWalksToWhereTheUnseenFloorComesIntoView) {
   EXPECT_TRUE(ExploreViews(seen, Pose2{}, config, PlannerConfig{}).empty());
   SearchConfig no_turns = config;
   no_turns.turns_max = 0;
-  EXPECT_FALSE(Search(no_turns, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(seen, Pose2{}, TargetDescription{"box"}, &why));
+  EXPECT_FALSE(Search(no_turns, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(seen, Pose2{}, TargetDescription{}, &why));
   EXPECT_NE(why.find("of floor not seen yet into view"), std::string::npos) << why;
   SearchConfig faces_only = no_turns;
   faces_only.explore = false;
-  EXPECT_FALSE(Search(faces_only, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(map, Pose2{}, TargetDescription{"box"}, &why));
+  EXPECT_FALSE(Search(faces_only, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot).Next(map, Pose2{}, TargetDescription{}, &why));
   EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
 }
 
@@ -591,7 +591,7 @@ TEST(Search, WithNoViewToWalkToItTurnsOnTheSpot) {
     std::string why;
     double time = 0.0, commanded = 0.0;
     for (int turn = 1; turn <= config.turns_max; ++turn) {
-      ASSERT_TRUE(search.Next(map, robot.TruePose(), TargetDescription{"box"}, &why)) << why;
+      ASSERT_TRUE(search.Next(map, robot.TruePose(), TargetDescription{}, &why)) << why;
       ASSERT_EQ(search.Viewpoints().size(), static_cast<size_t>(turn));
       const Viewpoint& v = search.Viewpoints().back();
       EXPECT_TRUE(v.turn);
@@ -608,7 +608,7 @@ TEST(Search, WithNoViewToWalkToItTurnsOnTheSpot) {
       EXPECT_LT(std::abs(WrapAngle(robot.TruePose().theta - commanded * kDeg)) / kDeg, 0.05 * commanded) << turn;
       EXPECT_LT(100.0 * robot.TruePose().Position().norm(), 1.0);  // cm: no walk
     }
-    EXPECT_FALSE(search.Next(map, robot.TruePose(), TargetDescription{"box"}, &why));
+    EXPECT_FALSE(search.Next(map, robot.TruePose(), TargetDescription{}, &why));
     EXPECT_NE(why.find("turned on the spot 7 times (search.turns_max)"), std::string::npos) << why;
     EXPECT_NE(why.find("no face in the map could be the target's"), std::string::npos) << why;
   }

@@ -247,7 +247,11 @@ TEST(PlaneRansac, FourCorrespondencesTryEveryTriple) {
   std::mt19937_64 rng(31);
   const Pose3 truth = RandomPose(rng, 1.0);
   std::vector<PlaneCorrespondence> pairs = Correspond(RandomPlanes(3, rng), truth);
-  pairs.insert(pairs.begin(), Pair(pairs[1].source, Plane{pairs[1].target.normal, pairs[1].target.offset + 0.5}));
+  // A wrong match first (the first plane's source with the second's target), so the first triple
+  // tried holds it. (A copy of a true pair with its offset moved would not do: with it in place of
+  // its twin, three pairs fit a wrong pose exactly, and the tie between the two poses would be
+  // decided by rounding.)
+  pairs.insert(pairs.begin(), Pair(pairs[0].source, pairs[1].target));
   PlaneRansacConfig config;
   config.max_iterations = 1;  // ignored: all 4 triples are tried
   const PlaneRansacResult result = EstimatePoseRansac(pairs, config);

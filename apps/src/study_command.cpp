@@ -27,8 +27,6 @@ namespace fs = std::filesystem;
 namespace planemap {
 namespace {
 
-constexpr double kCm = 100.0;  // [cm/m]
-
 std::atomic<bool> g_interrupted{false};
 
 extern "C" void OnInterrupt(int) {
