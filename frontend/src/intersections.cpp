@@ -195,9 +195,11 @@ std::optional<Interval> SharedSpan(const std::vector<Eigen::Vector3d>& points_a,
 //    support (terminators: the floor under a box's vertical edge, not the top of a box lying in
 //    front of it, which the face beside it goes on below);
 //  - another surface nearer than the continuation hides it.
+// *ended_by: the plane through the end that ends the edge there, if one does (else unchanged).
 bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, int b, const Cloud& cloud,
            const std::vector<int>& plane_of_pixel, const std::vector<DetectedPlane>& planes,
-           const CameraIntrinsics& camera, const IntersectionConfig& c, const EdgeTerminators* terminators) {
+           const CameraIntrinsics& camera, const IntersectionConfig& c, const EdgeTerminators* terminators,
+           int* ended_by) {
   // Without terminators every plane is taken for structure: any plane may end an edge.
   auto is_structure = [&](int plane) {
     return terminators == nullptr ||
@@ -228,7 +230,9 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
   // A plane through the edge's line past the end: the edge going on behind it is hidden unless
   // the plane ends it; going on in front of it, the edge met a third face and ended.
   auto hidden_by = [&](int owner) {
-    return outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);
+    const bool hidden = outward.dot(planes[owner].plane.normal) < 0.0 && !terminates(owner);
+    if (!hidden) *ended_by = owner;
+    return hidden;
   };
   if (end.z() <= 0.0) return true;
   const double step = end.z() / camera.fx;  // about one pixel at the end's depth [m]
@@ -574,8 +578,25 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       edge.convex = MostlyBehind(band_a, pb, origin, direction, span.low, span.high) &&
                     MostlyBehind(band_b, pa, origin, direction, span.low, span.high);
       const int ia = static_cast<int>(a), ib = static_cast<int>(b);
-      edge.start_cut = IsCut(edge.start, -direction, ia, ib, cloud, plane_of_pixel, planes, camera, c, terminators);
-      edge.end_cut = IsCut(edge.end, direction, ia, ib, cloud, plane_of_pixel, planes, camera, c, terminators);
+      int start_by = -1, end_by = -1;
+      edge.start_cut = IsCut(edge.start, -direction, ia, ib, cloud, plane_of_pixel, planes, camera, c, terminators, &start_by);
+      edge.end_cut = IsCut(edge.end, direction, ia, ib, cloud, plane_of_pixel, planes, camera, c, terminators, &end_by);
+      // An end that a plane through it ends is where the line meets that plane: the faces' last
+      // pixels before it (within the inlier distance of both) went to neither face's band.
+      if (c.end_on_ending_plane) {
+        for (const auto& [by, t] : {std::pair<int, double*>{start_by, &span.low}, std::pair<int, double*>{end_by, &span.high}}) {
+          if (by < 0) continue;
+          const Plane& ending = planes[by].plane;
+          const double slope = ending.normal.dot(direction);
+          if (std::abs(slope) < std::sin(c.min_angle_deg * kDegToRad)) continue;
+          const double at = -ending.SignedDistance(origin) / slope;
+          if (std::abs(at - *t) <= c.end_on_ending_plane_max) *t = at;
+        }
+        if (span.high - span.low < c.min_length) continue;
+        edge.start = origin + span.low * direction;
+        edge.end = origin + span.high * direction;
+        edge.length = span.high - span.low;
+      }
       edges.push_back(edge);
     }
   }

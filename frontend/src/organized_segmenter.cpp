@@ -217,7 +217,7 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
 void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, const Pass& pass,
                 const OrganizedSegmenterConfig& c, size_t offset, std::vector<std::vector<int>>* inliers,
                 std::vector<std::array<double, 10>>* sums, std::vector<double>* fit_count,
-                std::vector<Box3>* bounds) {
+                std::vector<Box3>* bounds, std::vector<std::uint8_t>* ambiguous) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   const int cs = pass.cs, cw = pass.cw, ch = pass.ch;
   const std::vector<Cell>& cells = pass.cells;
@@ -268,7 +268,10 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
         if (best_region < 0) continue;
         (*inliers)[offset + best_region].push_back(v * w + u);
         (*bounds)[offset + best_region].Extend(Eigen::Vector3d(x, y, z));
-        if (close_planes > 1) continue;
+        if (close_planes > 1) {
+          (*ambiguous)[v * w + u] = 1;
+          continue;
+        }
         const double wt = DepthNoiseWeight(z);
         auto& s = (*sums)[offset + best_region];
         s[0] += wt; s[1] += wt * x; s[2] += wt * y; s[3] += wt * z;
@@ -458,6 +461,131 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
   return found;
 }
 
+// Step 4c: a strip (step 4b) takes back the pixels beside it that lie on it rather than on the
+// plane that took them in step 4, where no plane for the strip's face existed yet (the ledge of a
+// box's top beside the box stacked on it took the lower rows of that box's side, a few
+// millimetres from its plane, and came out 13.6 deg off level). From each strip's pixels, through
+// 8-neighbours: a pixel of a plane joins the strip when it lies off that plane by half the inlier
+// distance or more and within half of it of the strip's plane (as found: refitted on what it
+// takes, a strip could creep over a face), the two planes strip_take_back_min_angle_deg or more
+// from parallel. Only planes nearer than robust_min_depth give pixels back: farther, the
+// consensus check of step 5 cleans a plane, and a plane partly cleaned here could slip under it.
+// The planes that lost pixels are refitted on their unambiguous pixels (step 4's, less those
+// taken), which brings more of the strip's face off them: up to strip_take_back_rounds rounds.
+void StripsTakeBack(const Cloud& cloud, const OrganizedSegmenterConfig& c, const std::vector<std::uint8_t>& ambiguous,
+                    int min_inliers, std::vector<std::vector<int>>* inliers, std::vector<PointMoments>* fit_moments,
+                    std::vector<Box3>* bounds, std::vector<std::vector<int>>* strips) {
+  if (strips->empty() || c.strip_take_back_rounds <= 0) return;
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
+  const int regions = static_cast<int>(inliers->size());
+  // Kept, and nearer than robust_min_depth (no consensus check): may give pixels back.
+  std::vector<Plane> region_plane(regions);
+  std::vector<std::uint8_t> near(regions, 0);
+  for (int r = 0; r < regions; ++r) {
+    if (static_cast<int>((*inliers)[r].size()) < min_inliers) continue;
+    const PlaneFit fit = FitPlane((*fit_moments)[r]);
+    region_plane[r] = fit.plane;
+    near[r] = fit.ok && fit.centroid.z() < c.robust_min_depth;
+  }
+  // Whose each pixel is (region r, or regions + strip s), in the window the strips grow in: their
+  // pixel box and cell_size pixels around it.
+  int u0 = w, u1 = -1, v0 = h, v1 = -1;
+  for (const std::vector<int>& strip : *strips) {
+    for (int i : strip) u0 = std::min(u0, i % w), u1 = std::max(u1, i % w);
+    v0 = std::min(v0, strip.front() / w), v1 = std::max(v1, strip.back() / w);
+  }
+  const int margin = c.cell_size;
+  u0 = std::max(0, u0 - margin), u1 = std::min(w - 1, u1 + margin);
+  v0 = std::max(0, v0 - margin), v1 = std::min(h - 1, v1 + margin);
+  const int ww = u1 - u0 + 1;
+  std::vector<int> owner(static_cast<size_t>(ww) * (v1 - v0 + 1), -1);
+  auto local = [&](int i) { return (i / w - v0) * ww + (i % w - u0); };
+  for (int r = 0; r < regions; ++r) {
+    if (!near[r]) continue;
+    const std::vector<int>& pixels = (*inliers)[r];
+    auto it = pixels.begin();
+    for (int v = v0; v <= v1 && it != pixels.end(); ++v) {  // sorted: each row's stretch in the window
+      it = std::lower_bound(it, pixels.end(), v * w + u0);
+      for (const int end = v * w + u1; it != pixels.end() && *it <= end; ++it) owner[local(*it)] = r;
+    }
+  }
+  for (size_t s = 0; s < strips->size(); ++s) {
+    for (int i : (*strips)[s]) owner[local(i)] = regions + static_cast<int>(s);
+  }
+  std::vector<Plane> strip_plane;  // as found (refitted on what they take, they could creep)
+  for (const std::vector<int>& strip : *strips) strip_plane.push_back(FitDetectedPlane(cloud, strip).plane);
+  const double max_cos = std::cos(c.strip_take_back_min_angle_deg * kDegToRad);
+  std::vector<int> stack;
+  for (int round = 0; round < c.strip_take_back_rounds; ++round) {
+    std::vector<std::vector<int>> lost(regions);  // the pixels each region lost this round
+    bool taken = false;
+    for (size_t s = 0; s < strips->size(); ++s) {
+      std::vector<int>& strip = (*strips)[s];
+      const Plane& plane = strip_plane[s];
+      const int id = regions + static_cast<int>(s);
+      stack = strip;
+      while (!stack.empty()) {
+        const int i = stack.back();
+        stack.pop_back();
+        const int u = i % w, v = i / w;
+        for (int dv = -1; dv <= 1; ++dv) {
+          for (int du = -1; du <= 1; ++du) {
+            const int uu = u + du, vv = v + dv;
+            if (uu < u0 || uu > u1 || vv < v0 || vv > v1) continue;
+            const int j = vv * w + uu;
+            const int r = owner[local(j)];
+            if (r < 0 || r >= regions || std::abs(region_plane[r].normal.dot(plane.normal)) > max_cos) continue;
+            const pcl::PointXYZRGB& p = cloud[j];
+            const Eigen::Vector3d x(p.x, p.y, p.z);
+            const double limit = InlierDistance(c, p.z);
+            const double d_own = std::abs(region_plane[r].SignedDistance(x)), d_strip = std::abs(plane.SignedDistance(x));
+            if (d_own < 0.5 * limit || d_strip >= 0.5 * limit) continue;
+            lost[r].push_back(j);
+            owner[local(j)] = id;
+            strip.push_back(j);
+            stack.push_back(j);
+            taken = true;
+            if (ambiguous[j]) continue;
+            PointMoments& m = (*fit_moments)[r];  // j no longer pulls on r's refit
+            const double weight = DepthNoiseWeight(p.z);
+            m.n -= 1.0;
+            m.w -= weight;
+            m.sum -= weight * x;
+            m.sum_outer -= weight * x * x.transpose();
+          }
+        }
+      }
+      std::sort(strip.begin(), strip.end());
+    }
+    if (!taken) break;
+    for (int r = 0; r < regions; ++r) {
+      std::vector<int>& gone = lost[r];
+      if (gone.empty()) continue;
+      // Both sorted: one pass over the stretch of r's pixels the lost ones lie in.
+      std::sort(gone.begin(), gone.end());
+      std::vector<int>& pixels = (*inliers)[r];
+      const auto first = std::lower_bound(pixels.begin(), pixels.end(), gone.front());
+      const auto last = std::upper_bound(first, pixels.end(), gone.back());
+      auto out = first;
+      size_t k = 0;
+      for (auto it = first; it != last; ++it) {
+        while (k < gone.size() && gone[k] < *it) ++k;
+        if (k == gone.size() || gone[k] != *it) *out++ = *it;
+      }
+      pixels.erase(out, last);
+      // The box of r's points stays unless a lost point was on it; then it is computed again
+      // from the inliers when needed.
+      Box3& box = (*bounds)[r];
+      for (int i : gone) {
+        const Eigen::Vector3d x(cloud[i].x, cloud[i].y, cloud[i].z);
+        if ((x.array() == box.low.array()).any() || (x.array() == box.high.array()).any()) box = Box3{};
+      }
+      const PlaneFit fit = FitPlane((*fit_moments)[r]);
+      if (fit.ok) region_plane[r] = fit.plane;
+    }
+  }
+}
+
 }  // namespace
 
 SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
@@ -472,6 +600,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
   std::vector<std::array<double, 10>> sums;  // weighted w, x, y, z, xx, xy, xz, yy, yz, zz
   std::vector<double> fit_count;
   std::vector<Box3> bounds;  // of each region's inliers
+  std::vector<std::uint8_t> ambiguous(cloud.size(), 0);  // close to two planes: pulls on no refit
   for (const int cell_size : {c.cell_size, std::max(4, c.cell_size / 2)}) {
     const Pass pass = GrowPass(cloud, usable, cell_size, cell_size == c.cell_size, c);
     const size_t offset = inliers.size();
@@ -479,7 +608,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     sums.resize(inliers.size(), std::array<double, 10>{});
     fit_count.resize(inliers.size(), 0.0);
     bounds.resize(inliers.size());
-    AssignPass(cloud, usable, pass, c, offset, &inliers, &sums, &fit_count, &bounds);
+    AssignPass(cloud, usable, pass, c, offset, &inliers, &sums, &fit_count, &bounds, &ambiguous);
     for (size_t r = offset; r < inliers.size(); ++r) {  // kept planes' pixels are taken
       if (static_cast<int>(inliers[r].size()) < config_.min_inliers) continue;
       for (int i : inliers[r]) usable[i] = 0;
@@ -495,6 +624,8 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     fit_moments[r].sum = Eigen::Vector3d(s[1], s[2], s[3]);
     fit_moments[r].sum_outer << s[4], s[5], s[6], s[5], s[7], s[8], s[6], s[8], s[9];
   }
+
+  StripsTakeBack(cloud, c, ambiguous, config_.min_inliers, &inliers, &fit_moments, &bounds, &leftover);
 
   // 5. Least-squares refit on each plane's unambiguous inliers.
   std::vector<DetectedPlane> planes;

@@ -28,6 +28,11 @@ struct IntersectionConfig {
   double unseen_run_length = 0.005;  // a surface on the line that no plane took, or a face
                                      // running into missing depth, going on this far past an
                                      // end cuts it [m]
+  // An end that a plane through it ends (a support under a vertical edge, a third face) moves to
+  // where the line meets that plane, if that is at most end_on_ending_plane_max away along the
+  // line and the plane is at least min_angle_deg from parallel to it. [on/off], [m]
+  bool end_on_ending_plane = true;
+  double end_on_ending_plane_max = 0.02;
   int free_space_min_run = 3;      // an edge end this many pixels or more in front of what the
                                    // camera sees there moves in to where it is not [px]
   double band_width = 0.09;        // each plane's extent along the edge is measured on its inliers
@@ -82,6 +87,8 @@ struct IntersectionConfig {
     v("band_on_plane", band_on_plane);
     v("band_on_plane_max_sigma", band_on_plane_max_sigma, Check::kPositive);
     v("max_gap", max_gap, Check::kPositive);
+    v("end_on_ending_plane", end_on_ending_plane);
+    v("end_on_ending_plane_max", end_on_ending_plane_max, Check::kNonNegative);
     v("hidden_edges", hidden_edges);
     v("hidden_max_reach", hidden_max_reach, Check::kPositive);
     v("hidden_min_determinant", hidden_min_determinant, Check::kProbability);

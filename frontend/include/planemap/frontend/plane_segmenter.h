@@ -49,6 +49,13 @@ struct OrganizedSegmenterConfig {
   // diagonally): connected parts of min_inliers or more are searched for planes by sample
   // consensus with this many hypotheses (seeded by robust_seed); 0: off.
   int leftover_hypotheses = 50;
+  // A strip takes back the pixels beside it that lie on it (within half the inlier distance)
+  // rather than on the plane that took them (off it by half the inlier distance or more), from
+  // planes nearer than robust_min_depth and at least strip_take_back_min_angle_deg from parallel
+  // to it; in up to strip_take_back_rounds rounds, each refitting the planes that lost pixels.
+  // 0 rounds: off.
+  int strip_take_back_rounds = 3;
+  double strip_take_back_min_angle_deg = 20.0;  // [deg]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -70,6 +77,8 @@ struct OrganizedSegmenterConfig {
     v("robust_hypotheses", robust_hypotheses, Check::kPositive);
     v("robust_seed", robust_seed, Check::kNonNegative);
     v("leftover_hypotheses", leftover_hypotheses, Check::kNonNegative);
+    v("strip_take_back_rounds", strip_take_back_rounds, Check::kNonNegative);
+    v("strip_take_back_min_angle_deg", strip_take_back_min_angle_deg, Check::kNonNegative);
   }
 };
 
