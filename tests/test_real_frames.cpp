@@ -2,6 +2,8 @@
 // TUM office frames. Figures are printed; the checks are asserted.
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <set>
@@ -425,6 +427,38 @@ TEST(RealFrames, TumOfficeFramesGivePlanesAndNoInventedObjects) {
     }
   }
   EXPECT_GE(frames, 6);
+}
+
+}  // namespace
+}  // namespace planemap
+
+namespace planemap {
+namespace {
+
+TEST(PcdSource, BadFilesAreErrorsNamingTheFile) {
+  testing::TempDir dir;
+  const CameraIntrinsics camera = OpenNi();
+  auto header = [](int width, int height, const std::string& fields, int points) {
+    return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+           std::to_string(width) + "\nHEIGHT " + std::to_string(height) + "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
+           std::to_string(points) + "\nDATA ascii\n";
+  };
+  const std::string missing = dir.path() + "/missing.pcd";
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(missing, camera); }, {missing, "no such PCD file"}));
+  // Once a crash in PCL's reader: a file whose header gives no points.
+  const std::string garbage = dir.Write("garbage.pcd", "not a point cloud\n");
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(garbage, camera); }, {garbage, "not a PCD file"}));
+  const std::string unorganized = dir.Write("unorganized.pcd", header(3, 1, "x y z", 3) + "0 0 1\n0 1 1\n1 0 1\n");
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(unorganized, camera); }, {unorganized, "cloud is 3x1", "organized"}));
+  const std::string no_z = dir.Write("no_z.pcd", header(640, 480, "x y w", 640 * 480) + "0 0 1\n");
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(no_z, camera); }, {no_z, "no 'z' field"}));
+  const std::string truncated = dir.Write("truncated.pcd", header(640, 480, "x y z", 640 * 480) + "0 0 1\n0 1 1\n");
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(truncated, camera); }, {truncated, "truncated or corrupt"}));
+  // A real frame cut short inside its compressed data.
+  std::ifstream in(SharedPath("data/osd_boxes_learn/pcd/learn2.pcd"), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string cut = dir.Write("cut.pcd", bytes.substr(0, bytes.size() / 2));
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(cut, camera); }, {cut, "truncated or corrupt"}));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "planemap/frontend/pcd_source.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -11,14 +12,31 @@
 namespace planemap {
 
 PcdFrame LoadOrganizedPcd(const std::string& file, const CameraIntrinsics& camera) {
-  pcl::PointCloud<pcl::PointXYZRGBL> raw;
-  if (!std::filesystem::exists(file) || pcl::io::loadPCDFile(file, raw) != 0) {
-    ThrowInputError(file, 0, "cannot read PCD file");
+  if (!std::filesystem::is_regular_file(file)) ThrowInputError(file, 0, "no such PCD file");
+  // The header first: PCL's reader crashes on a file whose header holds no points (PCL 1.13).
+  pcl::PCDReader reader;
+  pcl::PCLPointCloud2 header;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0, data_type = 0;
+  unsigned int data_start = 0;
+  if (reader.readHeader(file, header, origin, orientation, version, data_type, data_start) != 0) {
+    ThrowInputError(file, 0, "not a PCD file (no valid header)");
   }
-  if (static_cast<int>(raw.width) != camera.width || static_cast<int>(raw.height) != camera.height) {
-    ThrowInputError(file, 0, "cloud is " + std::to_string(raw.width) + "x" + std::to_string(raw.height) +
+  if (header.width == 0 || header.height == 0) ThrowInputError(file, 0, "not a PCD file, or one without points");
+  if (static_cast<int>(header.width) != camera.width || static_cast<int>(header.height) != camera.height) {
+    ThrowInputError(file, 0, "cloud is " + std::to_string(header.width) + "x" + std::to_string(header.height) +
                                  " but the camera is " + std::to_string(camera.width) + "x" +
                                  std::to_string(camera.height) + " (an organized cloud is needed)");
+  }
+  for (const char* name : {"x", "y", "z"}) {
+    if (std::none_of(header.fields.begin(), header.fields.end(), [&](const pcl::PCLPointField& f) { return f.name == name; })) {
+      ThrowInputError(file, 0, std::string("cloud has no '") + name + "' field");
+    }
+  }
+  pcl::PointCloud<pcl::PointXYZRGBL> raw;
+  if (pcl::io::loadPCDFile(file, raw) != 0 || raw.width != header.width || raw.height != header.height) {
+    ThrowInputError(file, 0, "cannot read the PCD file's points (truncated or corrupt)");
   }
   PcdFrame frame;
   frame.cloud = std::make_shared<Cloud>(raw.width, raw.height);
