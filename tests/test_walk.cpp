@@ -90,6 +90,12 @@ TEST(Walk, BadWaypointsAreRejected) {
   c.waypoints = {0.0, 0.0, 1.0, 0.0};
   c.speed = -0.1;
   EXPECT_TRUE(ThrowsWith([&] { GenerateWalk(c); }, {"walk.speed", "must be > 0"}));
+  // From a file, the error names it.
+  planemap::testing::TempDir dir;
+  const std::string one_point = dir.Write("one.yaml", "waypoints: [0, 0]\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadTrajectory(one_point); }, {one_point, "at least two points"}));
+  const std::string standing = dir.Write("standing.yaml", "waypoints: [1, 1, 1, 1]\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadTrajectory(standing); }, {standing, "do not leave the start point"}));
 }
 
 }  // namespace

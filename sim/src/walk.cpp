@@ -108,7 +108,12 @@ Trajectory GenerateWalk(const WalkConfig& c) {
 Trajectory LoadTrajectory(const std::string& file) {
   const bool is_yaml = file.size() > 5 && (file.substr(file.size() - 5) == ".yaml" || file.substr(file.size() - 4) == ".yml");
   if (!is_yaml) return ReadTumTrajectory(file);
-  return GenerateWalk(LoadConfigFile<WalkConfig>(file));
+  const WalkConfig walk = LoadConfigFile<WalkConfig>(file);
+  try {
+    return GenerateWalk(walk);
+  } catch (const std::invalid_argument& e) {  // a walk that cannot be planned: name its file
+    ThrowInputError(file, 0, e.what());
+  }
 }
 
 }  // namespace planemap::sim
