@@ -40,6 +40,14 @@ CommandRun Planemap(const std::string& args, bool with_stderr = true) {
   return {WEXITSTATUS(status), output};
 }
 
+// Runs planemap expecting exit code 1 and `message` in its output.
+::testing::AssertionResult FailsWith(const std::string& args, const std::string& message) {
+  const CommandRun run = Planemap(args);
+  if (run.exit_code == 1 && run.output.find(message) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "planemap " << args << ": exit " << run.exit_code << ", expected 1 and '" << message
+                                       << "' in:\n" << run.output;
+}
+
 TEST(Cli, EverySubcommandHasHelp) {
   for (const char* sub : {"", "render", "inspect", "frame", "map", "eval", "merge", "approach", "study"}) {
     const CommandRun run = Planemap(std::string(sub) + " --help");
@@ -75,6 +83,54 @@ TEST(Cli, RenderWritesAReadableSequence) {
   EXPECT_EQ(mismatch.exit_code, 1);
   EXPECT_NE(mismatch.output.find(out + "/camera.yaml: the sequence was written with another camera"),
             std::string::npos) << mismatch.output;
+}
+
+// Depths past what a 16-bit PNG holds at the camera's depth_scale are written as no depth; the
+// summary said the rendered (not the written) pixels were valid: 96.9% for all-empty PNGs.
+TEST(Cli, RenderCountsWhatItsDepthPngsHold) {
+  TempDir dir;
+  const std::string camera = dir.Write("cam.yaml", "fx: 570.3\nfy: 570.3\ncx: 319.5\ncy: 239.5\nwidth: 640\nheight: 480\n");
+  const auto render = [&](const std::string& scale, const std::string& out) {
+    std::ofstream(camera, std::ios::app) << "depth_scale: " << scale << "\n";
+    return Planemap("render --max-frames 1 --exact --camera " + camera + " --out " + dir.File(out));
+  };
+  // 30000 units per metre: 65535 units are 2.18 m; the default walk's first view reaches beyond.
+  const CommandRun far = render("30000", "far");
+  ASSERT_EQ(far.exit_code, 0) << far.output;
+  EXPECT_NE(far.output.find("farther than a 16-bit depth PNG holds at depth_scale 30000 (2.184 m): written as no depth"),
+            std::string::npos) << far.output;
+  const CommandRun inspect = Planemap("inspect " + dir.File("far"));
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.output;
+  const auto valid = [](const std::string& text) {
+    const size_t at = text.find("depth: ");
+    return at == std::string::npos ? -1.0 : std::stod(text.substr(at + 7));
+  };
+  EXPECT_GT(valid(far.output), 0.0) << far.output;
+  EXPECT_DOUBLE_EQ(valid(far.output), valid(inspect.output)) << far.output << inspect.output;  // what was written is what is read
+  const size_t range = inspect.output.find(" m\n", inspect.output.find("depth: "));
+  ASSERT_NE(range, std::string::npos) << inspect.output;
+  const double farthest = std::stod(inspect.output.substr(inspect.output.rfind('-', range) + 1));
+  EXPECT_GT(farthest, 2.0) << inspect.output;
+  EXPECT_LE(farthest, 2.19) << inspect.output;  // nothing read back beyond 65535 units
+  // 1e9 units per metre hold nothing: an error naming the camera file.
+  std::ofstream(camera) << "fx: 570.3\nfy: 570.3\ncx: 319.5\ncy: 239.5\nwidth: 640\nheight: 480\n";
+  const CommandRun none = render("1e9", "none");
+  EXPECT_EQ(none.exit_code, 1) << none.output;
+  EXPECT_NE(none.output.find(camera + ": depth_scale 1e+09 units per metre leaves no depth"), std::string::npos) << none.output;
+}
+
+// Every frame unreadable: map skipped each by name and then exited 0 with an empty map.
+TEST(Cli, MapWithNoReadableFrameIsAnError) {
+  TempDir dir;
+  const std::string out = dir.File("seq");
+  const CommandRun render = Planemap("render --max-frames 2 --out " + out + " --scene " + SourcePath("configs/scenes/default.yaml") +
+                                     " --trajectory " + SourcePath("configs/walks/default.yaml"));
+  ASSERT_EQ(render.exit_code, 0) << render.output;
+  for (const auto& entry : std::filesystem::directory_iterator(out + "/depth")) std::ofstream(entry.path()) << "not a PNG";
+  const CommandRun map = Planemap("map " + out + " --out " + dir.File("map"));
+  EXPECT_EQ(map.exit_code, 1) << map.output;
+  EXPECT_NE(map.output.find("frame 0 skipped"), std::string::npos) << map.output;
+  EXPECT_NE(map.output.find("planemap map: error: " + out + ": none of its 2 frames could be read"), std::string::npos) << map.output;
 }
 
 TEST(Cli, FramePrintsTheModelAsJsonAndWritesOverlayAndPly) {
@@ -124,7 +180,40 @@ TEST(Cli, ErrorsAreOneLineNamingTheFileAndExitNonZero) {
   EXPECT_NE(no_sequence.output.find("sequence folder does not exist"), std::string::npos) << no_sequence.output;
 
   const CommandRun unknown = Planemap("fly");
-  EXPECT_NE(unknown.exit_code, 0);
+  EXPECT_EQ(unknown.exit_code, 1) << unknown.output;
+  EXPECT_TRUE(FailsWith("approach --seed one", "--seed"));
+
+  // A folder where a file is expected: named, not "basic_filebuf::underflow ... Is a directory".
+  EXPECT_TRUE(FailsWith("render --config " + dir.path() + " --out " + dir.File("o"), dir.path() + ": is a directory, not a file"));
+
+  // Numbers that are no numbers, and a seed that is no seed, before any work.
+  EXPECT_TRUE(FailsWith("approach --start 0 0 nan", "--start needs finite numbers"));
+  EXPECT_TRUE(FailsWith("nees --runs 1 --seed -5", "--seed: Value -5 not in range 0 to 2147483647"));
+  EXPECT_TRUE(FailsWith("render --max-frames -1", "--max-frames: Value -1 not in range 1 to"));  // was: every frame
+}
+
+// An error inside one of nees's parallel runs ended the process (std::terminate, no message);
+// it is now the command's error. A short walk at a wide stride (no RPE pair) is no error at all:
+// nees needs only the ATE.
+TEST(Cli, NeesRunsEndInTheirResultOrAnError) {
+  TempDir dir;
+  const std::string csv = dir.File("nees.csv");
+  const CommandRun short_walk = Planemap("nees --runs 1 --stride 60 --threads 2 --csv " + csv);
+  EXPECT_EQ(short_walk.exit_code, 0) << short_walk.output;
+  EXPECT_NE(short_walk.output.find("ANEES"), std::string::npos) << short_walk.output;
+  std::ifstream rows(csv);
+  std::string header, row;
+  EXPECT_TRUE(std::getline(rows, header) && std::getline(rows, row)) << csv;
+  EXPECT_EQ(row.rfind("1,box,", 0), 0u) << row;
+
+  EXPECT_TRUE(FailsWith("nees --runs 1 --csv " + dir.File("no_such_folder/nees.csv"), "no_such_folder/nees.csv: cannot write"));
+
+  // Two poses looking away from the box: no box in any run is a result, said, and exit 1.
+  const std::string walk = dir.Write("walk.txt", "0.0 1.0 0.0 1.2 0 0 0 1\n0.1 1.0 0.0 1.2 0 0 0 1\n");
+  const CommandRun two = Planemap("nees --runs 2 --stride 1 --threads 2 --trajectory " + walk);
+  EXPECT_EQ(two.exit_code, 1) << two.output;
+  EXPECT_NE(two.output.find("2 runs refined no box with an uncertainty"), std::string::npos) << two.output;
+  EXPECT_NE(two.output.find("no measured box dimension in any run"), std::string::npos) << two.output;
 }
 
 // A ground truth at 30 Hz whose poses come in pairs at one position; the estimate is it in another
@@ -371,6 +460,12 @@ TEST(Cli, AnUnwritableReportIsNamedBeforeTheRun) {
   const CommandRun table = Planemap("approach --table --seeds 1 --report " + dir.File("r.html"));
   EXPECT_EQ(table.exit_code, 1);
   EXPECT_NE(table.output.find("--report and --map are for a single run"), std::string::npos) << table.output;
+  // The table's JSON and plots, the run's map: named before the runs (they were written, and
+  // failed, after 20 minutes of them); --json without --table was ignored.
+  EXPECT_TRUE(FailsWith("approach --table --seeds 1 --json " + report, report + ": cannot write (does its folder exist"));
+  EXPECT_TRUE(FailsWith("approach --table --seeds 1 --plots " + dir.File("no_such_folder/fig8"), "no_such_folder/fig8_estimate.svg: cannot write"));
+  EXPECT_TRUE(FailsWith("approach --map " + dir.path(), dir.path() + ": cannot write: a folder of that name exists"));
+  EXPECT_TRUE(FailsWith("approach --json " + dir.File("t.json"), "--json writes the --table's figures"));
 }
 
 // `planemap approach --trace`: one CSV row per camera frame with the tracker's status and the

@@ -79,15 +79,18 @@ TEST(CameraFiles, SpotCheckValues) {
   EXPECT_DOUBLE_EQ(openni.cy, 239.5);
 }
 
-TEST(CameraFiles, KeysLeftOutKeepDefaults) {
+// A key left out used to take the TUM/OpenNI default: a 600 px camera read with fy 525 and
+// depth_scale 5000 (a millimetre sensor's depths 5x too short), without a word.
+TEST(CameraFiles, ACalibrationGivesEveryKey) {
   TempDir dir;
-  const std::string file = dir.Write("partial.yaml", "fx: 600.0\n");
-  const CameraIntrinsics camera = LoadCameraIntrinsics(file);
-  const CameraIntrinsics defaults;
-  EXPECT_DOUBLE_EQ(camera.fx, 600.0);
-  EXPECT_DOUBLE_EQ(camera.fy, defaults.fy);
-  EXPECT_EQ(camera.width, defaults.width);
-  EXPECT_DOUBLE_EQ(camera.depth_scale, defaults.depth_scale);
+  const std::string partial = dir.Write("partial.yaml", "fx: 600.0\nfy: 600.0\ncx: 320\ncy: 240\nwidth: 640\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(partial); }, {partial, "missing: height, depth_scale"}));
+  const std::string empty = dir.Write("empty.yaml", "");
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(empty); }, {empty, "missing: fx, fy, cx, cy, width, height, depth_scale"}));
+  const std::string full = dir.Write("full.yaml", "fx: 600.0\nfy: 601.0\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\ndepth_scale: 1000\n");
+  const CameraIntrinsics camera = LoadCameraIntrinsics(full);
+  EXPECT_DOUBLE_EQ(camera.fy, 601.0);
+  EXPECT_DOUBLE_EQ(camera.depth_scale, 1000.0);
 }
 
 TEST(AppConfigFile, DefaultYamlEqualsTheDefaultsInCode) {
@@ -221,6 +224,52 @@ TEST(ConfigErrors, TopLevelNotAMap) {
   TempDir dir;
   const std::string file = dir.Write("bad.yaml", "- 1\n- 2\n");
   EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(file); }, {file, "map"}));
+}
+
+TEST(ConfigErrors, AStringOutsideItsChoicesNamesTheFileLineAndChoices) {
+  TempDir dir;
+  // Each was found only when the setting was used: the back end's loss once tracking had run.
+  const std::string loss = dir.Write("loss.yaml", "backend:\n  loss:\n    type: tukey\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(loss); },
+                         {loss + ":3", "backend.loss.type", "huber, cauchy, soft_l1 or none", "'tukey'"}));
+  const std::string method = dir.Write("method.yaml", "frontend:\n  segmentation:\n    method: ransac\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(method); },
+                         {method + ":3", "frontend.segmentation.method", "organized or msac", "'ransac'"}));
+  const std::string refine = dir.Write("refine.yaml", "tracking:\n  refine: gicp\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(refine); }, {refine + ":2", "tracking.refine", "'gicp'"}));
+  // Built in code: the same check, naming the field.
+  AppConfig config;
+  config.backend.linear_solver = "dense_qr";
+  EXPECT_TRUE(ThrowsWith([&] { ValidateConfig(config); }, {"backend.linear_solver", "sparse_schur or sparse_normal_cholesky"}));
+}
+
+TEST(ConfigErrors, SettingsThatContradictEachOtherAreNamed) {
+  TempDir dir;
+  // A depth window with nothing in it made every pixel invalid: an empty model, no error.
+  const std::string depths = dir.Write("depths.yaml", "frontend:\n  cloud:\n    min_depth: 7.0\n    max_depth: 6.0\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(depths); },
+                         {depths + ":3", "frontend.cloud", "min_depth 7 must be below max_depth 6"}));
+  // A zero up vector normalized to NaN: no floor, no object height, silently.
+  const std::string up = dir.Write("up.yaml", "frontend:\n  graph:\n    up_in_camera: [0, 0, 0]\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(up); }, {up + ":3", "frontend.graph", "up_in_camera must not be zero"}));
+  const std::string two = dir.Write("two.yaml", "frontend:\n  graph:\n    up_in_camera: [0, -1]\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(two); }, {two + ":3", "up_in_camera needs 3 numbers"}));
+  const std::string noise = dir.Write("noise.yaml", "render:\n  noise:\n    min_depth: 5.0\n    max_depth: 0.5\n");
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(noise); }, {noise + ":3", "render.noise", "must be below max_depth"}));
+  // Built in code: the same, naming the struct.
+  AppConfig config;
+  config.frontend.objects.hand_span_min = 0.5;
+  EXPECT_TRUE(ThrowsWith([&] { ValidateConfig(config); }, {"frontend.objects is inconsistent", "hand_span_min"}));
+  CloudConfig cloud;
+  cloud.min_depth = 9.0;
+  EXPECT_TRUE(ThrowsWith([&] { ValidateConfig(cloud, "cloud."); }, {"cloud is inconsistent", "min_depth"}));
+}
+
+TEST(ConfigErrors, ADirectoryIsNotAFile) {
+  TempDir dir;
+  // std::ifstream opens a directory; reading it threw "basic_filebuf::underflow ... Is a directory".
+  EXPECT_TRUE(ThrowsWith([&] { LoadConfigFile<AppConfig>(dir.path()); }, {dir.path(), "is a directory"}));
+  EXPECT_TRUE(ThrowsWith([&] { LoadCameraIntrinsics(dir.path()); }, {dir.path(), "is a directory"}));
 }
 
 TEST(ValidateConfig, StructBuiltInCodeWithNegativeFx) {

@@ -205,9 +205,11 @@ TEST(Frontend, AUserAddsAClassWithAPatternAndNoCode) {
 TEST(Frontend, BadPatternFilesAreErrorsNamingTheFile) {
   testing::TempDir dir;
   const std::string orientation = dir.Write("o.yaml", "patterns:\n  - class: x\n    nodes: [{name: a, orientation: diagonal}]\n");
-  EXPECT_TRUE(testing::ThrowsWith([&] { LoadPatterns(orientation); }, {orientation, "unknown orientation 'diagonal'"}));
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadPatterns(orientation); }, {orientation + ":3", "must be floor, horizontal, vertical or any, not 'diagonal'"}));
   const std::string edge = dir.Write("e.yaml", "patterns:\n  - class: x\n    nodes: [{name: a}]\n    edges: [a-b]\n");
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadPatterns(edge); }, {edge, "edge 'a-b'"}));
+  const std::string none = dir.Write("n.yaml", "patterns: []\n");
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadPatterns(none); }, {none, "no patterns"}));
   const std::string typo = dir.Write("t.yaml", "patterns:\n  - clas: x\n");
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadPatterns(typo); }, {typo + ":2", "unknown key 'patterns[0].clas'"}));
 }

@@ -4,9 +4,11 @@
 // into maps with different worlds, merge into one map whose box matches the scene.
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <set>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "planemap/frontend/map_merge.h"
 #include "planemap/io/plane_map_io.h"
@@ -193,6 +195,30 @@ TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
   ASSERT_EQ(back.keyframes.size(), 1u);
   EXPECT_LT(testing::TranslationError(back.keyframes[0].T_world_camera, map.keyframes[0].T_world_camera), 1e-12);
   EXPECT_LT(testing::RotationErrorDeg(back.keyframes[0].T_world_camera, map.keyframes[0].T_world_camera), 1e-6);
+}
+
+// Values that parse but are no map: each was read as given before (a zero axis, a negative size;
+// an id past 2^32 read as 0, which named another plane).
+TEST(MapJson, ImpossibleValuesAreErrorsNamingTheField) {
+  PlaneMap map = SyntheticRoom();
+  RebuildObjects(Objects(), 0.25, &map);
+  const nlohmann::json good = nlohmann::json::parse(PlaneMapJson(map));
+  testing::TempDir dir;
+  const auto read_with = [&](const std::function<void(nlohmann::json&)>& change) {
+    nlohmann::json j = good;
+    change(j);
+    const std::string file = dir.Write("bad.json", j.dump());
+    return [file] { ReadPlaneMapJson(file); };
+  };
+  EXPECT_TRUE(testing::ThrowsWith(read_with([](nlohmann::json& j) { j["objects"][0]["axes"][1] = {0.0, 0.0, 0.0}; }),
+                                  {"objects[0].axes[1]", "expected a unit vector"}));
+  EXPECT_TRUE(testing::ThrowsWith(read_with([](nlohmann::json& j) { j["objects"][0]["axes"][1] = j["objects"][0]["axes"][0]; }),
+                                  {"objects[0].axes", "three perpendicular unit vectors"}));
+  EXPECT_TRUE(testing::ThrowsWith(read_with([](nlohmann::json& j) { j["objects"][0]["dimensions"][2] = -0.3; }),
+                                  {"objects[0].dimensions", "sizes >= 0"}));
+  EXPECT_TRUE(testing::ThrowsWith(read_with([](nlohmann::json& j) { j["objects"][0]["planes"][0] = 4294967296ULL; }),
+                                  {"objects[0].planes[0]", "fits in 32 bits", "4294967296"}));
+  EXPECT_NO_THROW(read_with([](nlohmann::json&) {})());
 }
 
 TEST(MapMerge, TwoHalvesOfARenderedWalkMergeIntoOneMap) {

@@ -180,6 +180,8 @@ TEST(Planner, ControlPointsAreEvenlySpacedAndEndAtTheGoal) {
   }
   EXPECT_NEAR(arc, 2.0, 1e-9);
   EXPECT_EQ(ControlPoints({}, 0.15, goal).size(), 1u);
+  // A spacing that is a typo: 1e-9 m asked for billions of stops (12.7 GB, then bad_alloc).
+  EXPECT_TRUE(testing::ThrowsWith([&] { ControlPoints(path, 1e-9, goal); }, {"planner.control_point_spacing 1e-09 m", "control points"}));
 }
 
 TEST(Planner, SegmentFreeAndDeterminism) {

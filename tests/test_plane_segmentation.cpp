@@ -298,7 +298,7 @@ TEST(PlaneSegmentation, OrganizedFindsAFaceSeenAsAThinDiagonalStrip) {
 TEST(PlaneSegmentation, UnknownMethodIsAnError) {
   SegmenterConfig config;
   config.method = "ransac";
-  EXPECT_TRUE(testing::ThrowsWith([&] { MakePlaneSegmenter(config); }, {"unknown method 'ransac'"}));
+  EXPECT_TRUE(testing::ThrowsWith([&] { MakePlaneSegmenter(config); }, {"segmentation.method", "organized or msac", "'ransac'"}));
 }
 
 TEST(ConnectedParts, SplitsOnTheImageGrid) {

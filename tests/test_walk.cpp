@@ -96,6 +96,14 @@ TEST(Walk, BadWaypointsAreRejected) {
   EXPECT_TRUE(ThrowsWith([&] { LoadTrajectory(one_point); }, {one_point, "at least two points"}));
   const std::string standing = dir.Write("standing.yaml", "waypoints: [1, 1, 1, 1]\n");
   EXPECT_TRUE(ThrowsWith([&] { LoadTrajectory(standing); }, {standing, "do not leave the start point"}));
+  // A rate that is a typo: every pose would be made (and held) before the first frame. 1e12 Hz
+  // also overflowed the frame count to a negative int ("no poses").
+  for (const std::string rate : {"1e+08", "1e+12"}) {
+    const std::string fast = dir.Write("fast.yaml", "waypoints: [0, 0, 1.5, 0]\nrate: " + rate + "\n");
+    EXPECT_TRUE(ThrowsWith([&] { LoadTrajectory(fast); }, {fast, "poses (16 s at walk.rate " + rate + " Hz): more than 1e+06"}));
+  }
+  const std::string quick = dir.Write("quick.yaml", "waypoints: [0, 0, 1.5, 0]\nrate: 1000\n");
+  EXPECT_EQ(LoadTrajectory(quick).size(), 16001u);  // 1 s held + 15 s walked + ... at 1 kHz: still fine
 }
 
 }  // namespace

@@ -195,7 +195,14 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   if (options.scenario < 1 || options.scenario > 3) throw InputError("--scenario must be 1, 2 or 3");
   if (options.start.size() != 3) throw InputError("--start needs x y heading_deg");
   if (options.move_object_by.size() != 3) throw InputError("--move-by needs dx dy dyaw_deg");
-  if (options.rate <= 0.0) throw InputError("--rate must be positive");
+  const auto finite = [](const std::vector<double>& v) { return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }); };
+  if (!finite(options.start)) throw InputError("--start needs finite numbers: x y [m] heading [deg]");
+  if (!finite(options.move_object_by)) throw InputError("--move-by needs finite numbers: dx dy [m] dyaw [deg]");
+  if (!(options.rate > 0.0) || !std::isfinite(options.rate)) throw InputError("--rate must be a positive number [Hz]");
+  if (!(options.max_time > 0.0) || !std::isfinite(options.max_time)) throw InputError("--max-time must be a positive number [s]");
+  if (!finite({options.move_object_at, options.drop_at})) throw InputError("--move-object-at and --drop-at must be finite [s]");
+  if (!(options.drop_duration >= 0.0) || !std::isfinite(options.drop_duration)) throw InputError("--drop-for must be a number >= 0 [s]");
+  if (options.seed < 0) throw InputError("--seed must be 0 or more");
   if (!options.target_size.empty() &&
       (options.target_size.size() != 3 ||
        std::any_of(options.target_size.begin(), options.target_size.end(), [](double v) { return !(v > 0.0); })))

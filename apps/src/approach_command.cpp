@@ -191,6 +191,11 @@ void WriteRunReport(const ApproachCommandOptions& options, const ApproachRun& r,
 }  // namespace
 
 int RunApproach(const ApproachCommandOptions& options) {
+  // Outputs that cannot be written are named before the runs, not after them.
+  if (!options.json.empty() && !options.table) throw InputError("--json writes the --table's figures; a single run has --map, --trace and --report");
+  if (!options.json.empty()) CheckWritableFile(options.json);
+  if (!options.map.empty() && !options.table) CheckWritableFile(options.map);
+  if (!options.plots.empty()) CheckWritableFile(options.plots + "_estimate.svg");
   if (!options.table) {
     ReportAssets assets;
     if (!options.report.empty()) assets = PrepareReport(options.report);

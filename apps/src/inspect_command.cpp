@@ -35,7 +35,9 @@ int RunInspect(const InspectOptions& options) {
   std::printf("  camera: fx %.1f fy %.1f cx %.1f cy %.1f, %dx%d, %.0f depth units per metre\n", camera.fx, camera.fy,
               camera.cx, camera.cy, camera.width, camera.height, camera.depth_scale);
   std::printf("  labels: %s\n", sequence.has_labels() ? "yes" : "no");
-  if (n > 0) {
+  if (n > 0 && depth.z_max == 0.0) {
+    std::printf("  depth: no valid pixel\n");
+  } else if (n > 0) {
     std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", depth.MeanValidPercent(), depth.z_min,
                 depth.z_max);
   }

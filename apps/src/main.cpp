@@ -1,12 +1,19 @@
 // The planemap command-line tool: thin wiring of the library's modules.
 #include <cstdio>
 #include <exception>
+#include <limits>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "planemap/apps/commands.h"
+
+namespace {
+// Integer options' ranges, checked as the command line is read.
+const CLI::Range kCount(0, std::numeric_limits<int>::max());       // seeds, indices, 0 = every core
+const CLI::Range kCountOfOne(1, std::numeric_limits<int>::max());  // frames, runs, strides
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"planemap: plane-based object maps, poses and grasp approach from RGB-D"};
@@ -23,8 +30,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--camera", render.camera, "Camera intrinsics (YAML)")->capture_default_str();
   render_cmd->add_option("--config", render.config, "Settings (YAML), see configs/default.yaml")->capture_default_str();
   render_cmd->add_option("--out", render.out, "Output folder")->capture_default_str();
-  render_cmd->add_option("--max-frames", render.max_frames, "Render only the first N poses");
-  render_cmd->add_option("--seed", render.seed, "Noise seed (overrides render.seed)");
+  render_cmd->add_option("--max-frames", render.max_frames, "Render only the first N poses")->check(kCountOfOne);
+  render_cmd->add_option("--seed", render.seed, "Noise seed (overrides render.seed)")->check(kCount);
   render_cmd->add_flag("--exact", render.exact, "No sensor noise: exact depth");
 
   planemap::InspectOptions inspect;
@@ -34,13 +41,13 @@ int main(int argc, char** argv) {
                           "Camera intrinsics (YAML); default: the sequence's camera.yaml, else "
                           "configs/cameras/tum_openni_default.yaml");
   inspect_cmd->add_option("--config", inspect.config, "Settings (YAML)")->capture_default_str();
-  inspect_cmd->add_option("--max-frames", inspect.max_frames, "Read only the first N frames");
+  inspect_cmd->add_option("--max-frames", inspect.max_frames, "Read only the first N frames")->check(kCountOfOne);
 
   planemap::FrameOptions frame;
   CLI::App* frame_cmd = app.add_subcommand(
       "frame", "Planes, intersections, trihedral angles and classified objects of one RGB-D frame; prints JSON");
   frame_cmd->add_option("--sequence", frame.sequence, "TUM-layout sequence folder");
-  frame_cmd->add_option("--index", frame.index, "Frame index in the sequence")->capture_default_str();
+  frame_cmd->add_option("--index", frame.index, "Frame index in the sequence")->capture_default_str()->check(kCount);
   frame_cmd->add_option("--depth", frame.depth, "Depth PNG (16-bit, camera depth_scale units per metre)");
   frame_cmd->add_option("--color", frame.color, "Colour PNG matching --depth");
   frame_cmd->add_option("--pcd", frame.pcd, "Organized PCD point cloud (metres, camera frame)");
@@ -66,8 +73,8 @@ int main(int argc, char** argv) {
                       "World frame: groundtruth (the first frame's true pose), first (the first camera frame) or "
                       "auto (ground truth when the sequence has it)")
       ->capture_default_str();
-  map_cmd->add_option("--max-frames", map.max_frames, "Use only the first N frames");
-  map_cmd->add_option("--stride", map.stride, "Use every n-th frame")->capture_default_str();
+  map_cmd->add_option("--max-frames", map.max_frames, "Use only the first N frames")->check(kCountOfOne);
+  map_cmd->add_option("--stride", map.stride, "Use every n-th frame")->capture_default_str()->check(kCountOfOne);
   map_cmd->add_flag("--refine", map.refine,
                     "Refine poses, planes and boxes jointly with the Ceres back end (batch) after tracking; writes "
                     "trajectory_refined.txt and a map.json with each box's standard deviations");
@@ -82,10 +89,10 @@ int main(int argc, char** argv) {
   nees_cmd->add_option("--camera", nees.camera, "Camera intrinsics (YAML)")->capture_default_str();
   nees_cmd->add_option("--config", nees.config, "Settings (YAML)")->capture_default_str();
   nees_cmd->add_option("--patterns", nees.patterns, "Object graph patterns (YAML)")->capture_default_str();
-  nees_cmd->add_option("--runs", nees.runs, "Seeded runs")->capture_default_str();
-  nees_cmd->add_option("--seed", nees.first_seed, "Seed of the first run (run k: seed + k)")->capture_default_str();
-  nees_cmd->add_option("--stride", nees.stride, "Use every n-th pose of the walk")->capture_default_str();
-  nees_cmd->add_option("--threads", nees.threads, "Runs in parallel (0: every core)")->capture_default_str();
+  nees_cmd->add_option("--runs", nees.runs, "Seeded runs")->capture_default_str()->check(kCountOfOne);
+  nees_cmd->add_option("--seed", nees.first_seed, "Seed of the first run (run k: seed + k)")->capture_default_str()->check(kCount);
+  nees_cmd->add_option("--stride", nees.stride, "Use every n-th pose of the walk")->capture_default_str()->check(kCountOfOne);
+  nees_cmd->add_option("--threads", nees.threads, "Runs in parallel (0: every core)")->capture_default_str()->check(kCount);
   nees_cmd->add_option("--csv", nees.csv, "Write every run's errors, standard deviations and NEES here");
 
   planemap::ApproachCommandOptions approach;
@@ -94,7 +101,7 @@ int main(int argc, char** argv) {
                   "perception and estimation, the paper's scenarios (1 open loop, 2 path feedback, 3 then object approach)");
   approach_cmd->add_option("--scene", approach.run.scene, "Scene (YAML)")->capture_default_str();
   approach_cmd->add_option("--scenario", approach.run.scenario, "1, 2 or 3")->capture_default_str();
-  approach_cmd->add_option("--seed", approach.run.seed, "Walking and sensor noise seed (with --table: the first)")->capture_default_str();
+  approach_cmd->add_option("--seed", approach.run.seed, "Walking and sensor noise seed (with --table: the first)")->capture_default_str()->check(kCount);
   approach_cmd->add_option("--camera", approach.run.camera, "Camera intrinsics (YAML)")->capture_default_str();
   approach_cmd->add_option("--config", approach.run.config, "Settings (YAML): humanoid, planner, grasp, mission")->capture_default_str();
   approach_cmd->add_option("--patterns", approach.run.patterns, "Object graph patterns (YAML)")->capture_default_str();
@@ -111,9 +118,9 @@ int main(int argc, char** argv) {
   approach_cmd->add_option("--drop-for", approach.run.drop_duration, "... for this long [s]")->capture_default_str();
   approach_cmd->add_option("--max-time", approach.run.max_time, "End the run after this long [s]")->capture_default_str();
   approach_cmd->add_flag("--table", approach.table, "All three scenarios over --seeds seeds: the paper's Table 1");
-  approach_cmd->add_option("--seeds", approach.seeds, "Seeds per scenario with --table")->capture_default_str();
-  approach_cmd->add_option("--threads", approach.threads, "Runs in parallel with --table (0: every core)")->capture_default_str();
-  approach_cmd->add_option("--json", approach.json, "Write the table as JSON here");
+  approach_cmd->add_option("--seeds", approach.seeds, "Seeds per scenario with --table")->capture_default_str()->check(kCountOfOne);
+  approach_cmd->add_option("--threads", approach.threads, "Runs in parallel with --table (0: every core)")->capture_default_str()->check(kCount);
+  approach_cmd->add_option("--json", approach.json, "Write the table as JSON here (with --table)");
   approach_cmd->add_option("--plots", approach.plots, "Write Fig. 8-like SVG plots with this path prefix");
   approach_cmd->add_option("--report", approach.report,
                            "Write the run as a self-contained HTML page: 3-D map, paths, footsteps, control points, plots");
@@ -128,9 +135,10 @@ int main(int argc, char** argv) {
                "resumable CSV, a summary table (median, 90th percentile) and plots");
   study_cmd->add_option("study", study.study, "Study file (YAML), e.g. configs/studies/default.yaml")->required();
   study_cmd->add_option("--out", study.out, "Output folder (default: out/study_<name>)");
-  study_cmd->add_option("--threads", study.threads, "Runs in parallel (0: every core)")->capture_default_str();
+  study_cmd->add_option("--threads", study.threads, "Runs in parallel (0: every core)")->capture_default_str()->check(kCount);
   study_cmd->add_option("--max-runs", study.max_runs, "Stop after this many new runs (0: all); run again to go on")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kCount);
   study_cmd->add_flag("--restart", study.restart, "Discard the output folder's finished runs");
   study_cmd->add_option("--report", study.report,
                         "Write the study as a self-contained HTML page: summary, plots and the first run's map in 3-D");
@@ -158,7 +166,13 @@ int main(int argc, char** argv) {
   merge_cmd->add_option("--patterns", merge.patterns, "Object graph patterns (YAML)")->capture_default_str();
   merge_cmd->add_option("--out", merge.out, "Output folder")->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help prints and exits 0; a bad command line exits 1 like every other error (CLI11's own
+    // codes, 100 and up, mean nothing to a script).
+    return app.exit(e) == 0 ? 0 : 1;
+  }
   // Progress and log lines go to stderr; stdout carries only the command's results.
   spdlog::set_default_logger(spdlog::stderr_color_mt("planemap"));
   spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);

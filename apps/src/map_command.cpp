@@ -132,6 +132,9 @@ int RunMap(const MapOptions& options) {
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::fprintf(stderr, "\n");
+  if (counts[0] + counts[1] + counts[2] == 0) {
+    ThrowInputError(options.sequence, 0, "none of its " + std::to_string(unreadable) + " frames could be read (each is named above): no map");
+  }
 
   // Result lines go to stdout and into the report's summary.
   std::vector<std::string> summary;
@@ -168,7 +171,11 @@ int RunMap(const MapOptions& options) {
   }
   // Surfaces the tracker added twice (seen again from too far off to match) folded into one.
   const int fused = FuseDuplicateLandmarks(config.merge, &map);
-  std::ofstream(out / "map.json") << PlaneMapJson(map) << "\n";
+  {
+    std::ofstream json(out / "map.json");
+    json << PlaneMapJson(map) << "\n";
+    if (!json) ThrowInputError((out / "map.json").string(), 0, "write failed");
+  }
   WritePlaneMapPly((out / "map.ply").string(), map);
 
   // The map's size next to a point cloud of the same run (every valid pixel of every frame, as

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -45,7 +47,8 @@ std::vector<ConsistencyRun> OneRun(const sim::Scene& scene, const CameraIntrinsi
   const BatchResult batch = RefineBatch(tracker.map(), tracker.observations(), config.backend);
   Trajectory refined;
   for (size_t k = 0; k < batch.poses.size(); ++k) refined.push_back({tracker.observations()[k].stamp, batch.poses[k]});
-  const double ate = EvaluateTrajectory(walk, refined, config.eval, "truth", "refined").ate.translation.rmse;
+  // ATE only: a short walk or a wide stride leaves no pair of poses rpe_delta apart for the RPE.
+  const double ate = ComputeAte(AssociatePoses(walk, refined, config.eval.max_time_gap)).translation.rmse;
   EvalConfig eval = config.eval;
   eval.object_types = {"box"};
   std::vector<ConsistencyRun> runs;
@@ -89,6 +92,8 @@ double ChiSquareQuantile(double p, int k) { return boost::math::quantile(boost::
 ConsistencyResult RunConsistencyStudy(const ConsistencyOptions& options) {
   if (options.runs < 1) throw InputError("--runs must be 1 or more");
   if (options.stride < 1) throw InputError("--stride must be 1 or more");
+  if (options.first_seed < 0) throw InputError("--seed must be 0 or more");
+  if (options.first_seed > std::numeric_limits<int>::max() - options.runs) throw InputError("--seed + --runs must fit in an int");
   const sim::Scene scene = sim::LoadScene(ResolveConfigPath(options.scene));
   const CameraIntrinsics camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
   const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
@@ -102,12 +107,20 @@ ConsistencyResult RunConsistencyStudy(const ConsistencyOptions& options) {
   std::vector<std::vector<ConsistencyRun>> per_run(options.runs);
   std::atomic<int> next{0}, done{0};
   std::mutex print;
+  std::exception_ptr failure;  // the first run that threw: no further runs start
   const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   std::vector<std::thread> pool;
   for (int t = 0; t < std::min(threads, options.runs); ++t) {
     pool.emplace_back([&] {
       for (int i = next++; i < options.runs; i = next++) {
-        per_run[i] = OneRun(scene, camera, config, frontend, walk, options.first_seed + i);
+        try {
+          per_run[i] = OneRun(scene, camera, config, frontend, walk, options.first_seed + i);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(print);
+          if (!failure) failure = std::current_exception();
+          next = options.runs;
+          return;
+        }
         const std::lock_guard<std::mutex> lock(print);
         std::fprintf(stderr, "\rrun %d/%d done   ", ++done, options.runs);
       }
@@ -115,6 +128,7 @@ ConsistencyResult RunConsistencyStudy(const ConsistencyOptions& options) {
   }
   for (std::thread& t : pool) t.join();
   std::fprintf(stderr, "\n");
+  if (failure) std::rethrow_exception(failure);
 
   ConsistencyResult result;
   for (const auto& runs : per_run) {
@@ -134,24 +148,31 @@ ConsistencyResult RunConsistencyStudy(const ConsistencyOptions& options) {
 }
 
 int RunNees(const ConsistencyOptions& options) {
+  std::ofstream csv;  // opened before the runs: a path that cannot be written fails at once, not after them
+  if (!options.csv.empty()) {
+    csv.open(options.csv);
+    if (!csv) ThrowInputError(options.csv, 0, "cannot write");
+  }
   const ConsistencyResult r = RunConsistencyStudy(options);
   std::printf("planemap nees: %s, walk %s every %d poses, %d runs (seeds %d-%d)\n", options.scene.c_str(), options.trajectory.c_str(),
               options.stride, options.runs, options.first_seed, options.first_seed + options.runs - 1);
   std::printf("  seed  box       dimension error [mm]        std [mm]              NEES  dof  ATE [mm]\n");
-  std::ofstream csv;
-  if (!options.csv.empty()) {
-    csv.open(options.csv);
-    if (!csv) ThrowInputError(options.csv, 0, "cannot write");
+  if (csv.is_open()) {
     csv << "seed,object,error_x,error_y,error_z,std_x,std_y,std_z,nees,dof,ate\n";
   }
   for (const ConsistencyRun& run : r.runs) {
     std::printf("  %4d  %-8s %+6.2f %+6.2f %+6.2f    %5.2f %5.2f %5.2f   %6.2f  %d    %.2f\n", run.seed, run.object.c_str(),
                 1000 * run.error.x(), 1000 * run.error.y(), 1000 * run.error.z(), 1000 * run.std.x(), 1000 * run.std.y(),
                 1000 * run.std.z(), run.nees, run.dof, 1000 * run.ate);
-    if (csv) {
+    if (csv.is_open()) {
       csv << run.seed << ',' << run.object << ',' << run.error.x() << ',' << run.error.y() << ',' << run.error.z() << ',' << run.std.x()
           << ',' << run.std.y() << ',' << run.std.z() << ',' << run.nees << ',' << run.dof << ',' << run.ate << "\n";
     }
+  }
+  if (csv.is_open()) {
+    csv.close();
+    if (!csv) ThrowInputError(options.csv, 0, "write failed");
+    std::printf("  wrote %s\n", options.csv.c_str());
   }
   if (r.missing > 0) std::printf("  %d runs refined no box with an uncertainty\n", r.missing);
   if (r.dof == 0) {

@@ -1,11 +1,13 @@
 // planemap render: a simulated RGB-D sequence in the TUM layout, with exact ground truth.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include <spdlog/spdlog.h>
 
+#include "app_report.h"
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/apps/depth_summary.h"
@@ -50,6 +52,7 @@ int RunRender(const RenderOptions& options) {
   WriteMetadata(options.out, scene_file, scene, config);
 
   DepthSummary stats;
+  size_t too_far = 0;  // pixels past the PNG's range: 65535 units of camera.depth_scale
   const auto start = std::chrono::steady_clock::now();
   const size_t report_every = std::max<size_t>(1, trajectory.size() / 10);
   for (size_t k = 0; k < trajectory.size(); ++k) {
@@ -66,6 +69,14 @@ int RunRender(const RenderOptions& options) {
     frame.depth = std::move(rendered.depth);
     frame.color = std::move(rendered.color);
     frame.T_world_camera = pose.T_world_camera;
+    // What the 16-bit PNG cannot hold is written as no depth (WriteDepthPng): counted here as such.
+    float* z = frame.depth.data();
+    for (int i = 0; i < frame.depth.width() * frame.depth.height(); ++i) {
+      if (IsValidDepth(z[i]) && std::round(z[i] * camera.depth_scale) > 65535.0) {
+        z[i] = 0.0f;
+        ++too_far;
+      }
+    }
     stats.Add(frame.depth);
     writer.Add(frame, &rendered.labels);
     if ((k + 1) % report_every == 0 || k + 1 == trajectory.size()) {
@@ -81,8 +92,20 @@ int RunRender(const RenderOptions& options) {
               scene.surfaces.size(), scene.markers.size());
   std::printf("  camera %dx%d fx %.1f, noise %s, seed %d\n", camera.width, camera.height, camera.fx,
               config.render.add_noise ? "on" : "off", config.render.seed);
-  std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", stats.MeanValidPercent(),
-              stats.z_min, stats.z_max);
+  if (stats.z_max > 0.0) {
+    std::printf("  depth: %.1f%% of pixels valid on average, %.2f-%.2f m\n", stats.MeanValidPercent(), stats.z_min, stats.z_max);
+  } else {
+    std::printf("  depth: no valid pixel\n");
+  }
+  if (too_far > 0) {
+    std::printf("  %.1f%% of pixels were farther than a 16-bit depth PNG holds at depth_scale %g (%.3f m): written as no depth\n",
+                100.0 * too_far / (static_cast<double>(n) * camera.width * camera.height), camera.depth_scale,
+                65535.0 / camera.depth_scale);
+  }
+  if (too_far > 0 && stats.MeanValidPercent() == 0.0) {
+    ThrowInputError(options.camera, 0, "depth_scale " + Printf("%g", camera.depth_scale) +
+                                           " units per metre leaves no depth a 16-bit PNG can hold: every depth image written is empty");
+  }
   std::printf("  files: rgb/ depth/ label/ rgb.txt depth.txt label.txt associations.txt groundtruth.txt\n");
   std::printf("         scene.yaml scene_groundtruth.yaml camera.yaml config.yaml\n");
   std::printf("  %.1f ms per frame (render + PNG)\n", 1000.0 * seconds / n);

@@ -35,8 +35,7 @@ extern "C" void OnInterrupt(int) {
 }
 
 std::string ReadText(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) ThrowInputError(file, 0, "cannot read");
+  std::ifstream in = OpenInputFile(file, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

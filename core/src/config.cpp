@@ -1,6 +1,7 @@
 #include "planemap/core/config.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -23,6 +24,12 @@ std::string CheckValue(double value, Check check) {
   return "";
 }
 
+std::string ShortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", value);
+  return text;
+}
+
 int LineOf(const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
   return mark.is_null() ? 0 : mark.line + 1;
@@ -32,9 +39,22 @@ int LineOf(const YAML::Node& node) {
 
 using config_detail::LineOf;
 
+bool OneOf::Allows(const std::string& value) const {
+  return std::any_of(values.begin(), values.end(), [&](const char* v) { return value == v; });
+}
+
+std::string OneOf::Describe() const {
+  std::string text;
+  size_t i = 0;
+  for (const char* v : values) {
+    text += (i == 0 ? "" : i + 1 == values.size() ? " or " : ", ") + std::string(v);
+    ++i;
+  }
+  return text;
+}
+
 YAML::Node LoadYamlFile(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) ThrowInputError(file, 0, "cannot open file");
+  std::ifstream in = OpenInputFile(file);
   try {
     return YAML::Load(in);
   } catch (const YAML::Exception& e) {

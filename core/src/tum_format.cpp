@@ -33,12 +33,6 @@ bool ParseDouble(const std::string& token, double* value) {
   return errno == 0 && end == token.c_str() + token.size() && std::isfinite(*value);
 }
 
-std::ifstream OpenOrThrow(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) ThrowInputError(file, 0, "cannot open file");
-  return in;
-}
-
 std::ofstream CreateOrThrow(const std::string& file) {
   std::ofstream out(file);
   if (!out) ThrowInputError(file, 0, "cannot open file for writing");
@@ -64,7 +58,7 @@ std::string FormatTumPose(const StampedPose& pose) {
 }
 
 std::vector<StampedFile> ReadFileList(const std::string& file) {
-  std::ifstream in = OpenOrThrow(file);
+  std::ifstream in = OpenInputFile(file);
   std::vector<StampedFile> entries;
   std::string line;
   for (int line_no = 1; std::getline(in, line); ++line_no) {
@@ -93,7 +87,7 @@ void WriteFileList(const std::string& file, const std::string& header,
 }
 
 Trajectory ReadTumTrajectory(const std::string& file) {
-  std::ifstream in = OpenOrThrow(file);
+  std::ifstream in = OpenInputFile(file);
   Trajectory trajectory;
   std::string line;
   for (int line_no = 1; std::getline(in, line); ++line_no) {

@@ -5,8 +5,7 @@ namespace planemap {
 Frontend::Frontend(const CameraIntrinsics& camera, const FrontendConfig& config, PatternsConfig patterns)
     : camera_(camera), config_(config), patterns_(std::move(patterns)), segmenter_(MakePlaneSegmenter(config.segmentation)) {
   ValidateConfig(camera_, "camera.");
-  ValidateConfig(config_, "frontend.");
-  if (config_.graph.up_in_camera.size() != 3) throw std::invalid_argument("frontend.graph.up_in_camera needs 3 numbers");
+  ValidateConfig(config_, "frontend.");  // also up_in_camera: 3 numbers, not zero
 }
 
 FrameModel Frontend::Process(const RgbdFrame& frame) const {

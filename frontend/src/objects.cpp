@@ -59,7 +59,8 @@ std::string Orientation(const FrameModel& model, int plane, const Eigen::Vector3
 
 PatternsConfig LoadPatterns(const std::string& file) {
   PatternsConfig config = LoadConfigFile<PatternsConfig>(file);
-  const std::set<std::string> orientations = {"floor", "horizontal", "vertical", "any"};
+  // Orientations are checked as the file is read (PatternNode's OneOf), with their line.
+  if (config.patterns.empty()) ThrowInputError(file, 0, "no patterns: list at least one under 'patterns:' (see configs/patterns.yaml)");
   for (size_t i = 0; i < config.patterns.size(); ++i) {
     const GraphPattern& p = config.patterns[i];
     const std::string where = "patterns[" + std::to_string(i) + "]";
@@ -67,10 +68,6 @@ PatternsConfig LoadPatterns(const std::string& file) {
     if (p.nodes.empty()) ThrowInputError(file, 0, where + " (" + p.class_name + ") has no nodes");
     std::set<std::string> names;
     for (const PatternNode& n : p.nodes) {
-      if (!orientations.count(n.orientation)) {
-        ThrowInputError(file, 0, where + " (" + p.class_name + "): node '" + n.name + "' has unknown orientation '" +
-                                     n.orientation + "' (known: floor, horizontal, vertical, any)");
-      }
       if (!names.insert(n.name).second) ThrowInputError(file, 0, where + ": duplicate node '" + n.name + "'");
     }
     for (const std::string& e : p.edges) {

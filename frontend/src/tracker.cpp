@@ -65,10 +65,7 @@ struct Tracker::Observation {
 };
 
 Tracker::Tracker(const TrackingConfig& config, const Pose3& T_world_first) : config_(config), T_world_first_(T_world_first) {
-  ValidateConfig(config_, "tracking.");
-  if (config_.refine != "points" && config_.refine != "icp" && config_.refine != "none") {
-    throw std::invalid_argument("tracking.refine must be points, icp or none, not '" + config_.refine + "'");
-  }
+  ValidateConfig(config_, "tracking.");  // ranges, and refine is points, icp or none
 }
 
 Pose3 Tracker::Predict(double stamp, const std::optional<Pose3>& T_odometry_camera) const {

@@ -1,7 +1,9 @@
 #include "planemap/io/plane_map_io.h"
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -58,6 +60,11 @@ class Node {
   }
   int Int() const {
     if (!node_.is_number_integer()) Fail("", "expected an integer, got " + node_.dump());
+    // get<int> wraps what does not fit (4294967296 read as 0): out of range is an error.
+    const bool fits = node_.is_number_unsigned() ? node_.get<std::uint64_t>() <= std::numeric_limits<int>::max()
+                                                 : node_.get<std::int64_t>() >= std::numeric_limits<int>::min() &&
+                                                       node_.get<std::int64_t>() <= std::numeric_limits<int>::max();
+    if (!fits) Fail("", "expected an integer that fits in 32 bits, got " + node_.dump());
     return node_.get<int>();
   }
   bool Bool() const {
@@ -164,8 +171,7 @@ std::string PlaneMapJson(const PlaneMap& map, int indent) {
 }
 
 PlaneMap ReadPlaneMapJson(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) ThrowInputError(file, 0, "cannot open file");
+  std::ifstream in = OpenInputFile(file);
   json root;
   try {
     root = json::parse(in);
@@ -235,15 +241,22 @@ PlaneMap ReadPlaneMapJson(const std::string& file) {
     m.label = o["label"].String();
     for (const Node& p : o.List("planes")) m.landmarks.push_back(plane_id(p));
     m.dimensions = o["dimensions"].Vector();
+    if (m.dimensions.minCoeff() < 0.0) o["dimensions"].Fail("", "expected sizes >= 0 [m]");
     const Node complete = o["dimension_complete"];
     if (!complete.raw().is_array() || complete.Size() != 3) complete.Fail("", "expected 3 booleans, got " + complete.raw().dump());
     for (size_t k = 0; k < 3; ++k) m.dimension_complete[k] = complete[k].Bool();
     m.center = o["center"].Vector();
     const Node axes = o["axes"];
     if (!axes.raw().is_array() || axes.Size() != 3) axes.Fail("", "expected 3 vectors");
-    for (size_t k = 0; k < 3; ++k) m.axes.col(k) = axes[k].Vector();
+    for (size_t k = 0; k < 3; ++k) {
+      m.axes.col(k) = axes[k].Vector();
+      if (std::abs(m.axes.col(k).norm() - 1.0) > 1e-3) axes[k].Fail("", "expected a unit vector");
+    }
+    // A rotation's columns: |det| 1 only when the three are also mutually perpendicular.
+    if (std::abs(std::abs(m.axes.determinant()) - 1.0) > 1e-3) axes.Fail("", "expected three perpendicular unit vectors");
     if (o.Has("grasp_axis")) {
       m.grasp_axis = o["grasp_axis"].Vector();
+      if (std::abs(m.grasp_axis.norm() - 1.0) > 1e-3) o["grasp_axis"].Fail("", "expected a unit vector");
       m.has_grasp_axis = true;
     }
     if (o.Has("observations")) m.observations = o["observations"].Int();

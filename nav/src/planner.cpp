@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <queue>
+#include <stdexcept>
 #include <utility>
 
 namespace planemap::nav {
@@ -377,7 +378,15 @@ double PathLength(const std::vector<Pose2>& path) {
 std::vector<Pose2> ControlPoints(const std::vector<Pose2>& path, double spacing, const Pose2& goal) {
   if (path.empty()) return {goal};
   const double length = PathLength(path);
-  const int count = spacing > 0.0 ? std::max(1, static_cast<int>(std::ceil(length / spacing - 1e-9))) : 1;
+  const double wanted = spacing > 0.0 ? std::ceil(length / spacing - 1e-9) : 1.0;
+  // One stop per spacing: a spacing far under a step is a typo (1e-9 m asked for 12 GB).
+  constexpr double kMaxControlPoints = 1e5;
+  if (wanted > kMaxControlPoints) {
+    throw std::invalid_argument("planner.control_point_spacing " + config_detail::ShortNumber(spacing) + " m puts " +
+                                config_detail::ShortNumber(wanted) + " control points on a " + config_detail::ShortNumber(length) +
+                                " m path: more than " + config_detail::ShortNumber(kMaxControlPoints));
+  }
+  const int count = std::max(1, static_cast<int>(wanted));
   std::vector<Pose2> points{path.front()};
   size_t segment = 1;
   double segment_start = 0.0;  // arc length where `segment` begins [m]

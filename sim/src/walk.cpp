@@ -80,7 +80,16 @@ Trajectory GenerateWalk(const WalkConfig& c) {
 
   const Eigen::Matrix3d R_body_optical = RotationBodyFromOptical();
   Trajectory trajectory;
-  const int frames = static_cast<int>(std::floor(total * c.rate)) + 1;
+  // Every pose is held in memory (about 140 bytes each): a rate or walk that asks for more than
+  // this is a typo, not a recording (a million poses: 9 hours at 30 Hz).
+  constexpr double kMaxPoses = 1e6;
+  const double poses = std::floor(total * c.rate) + 1;
+  if (poses > kMaxPoses) {
+    throw std::invalid_argument("the walk would have " + config_detail::ShortNumber(poses) + " poses (" + config_detail::ShortNumber(total) +
+                                " s at walk.rate " + config_detail::ShortNumber(c.rate) + " Hz): more than " +
+                                config_detail::ShortNumber(kMaxPoses));
+  }
+  const int frames = static_cast<int>(poses);
   for (int k = 0; k < frames; ++k) {
     const double t = k / c.rate;
     const BodyState body = StateAt(pieces, t);

@@ -16,7 +16,7 @@ struct RobustLossConfig {
 
   template <class V>
   void VisitFields(V&& v) {
-    v("type", type);
+    v("type", type, OneOf{{"huber", "cauchy", "soft_l1", "none"}});
     v("scale", scale, Check::kPositive);
   }
 };
@@ -125,7 +125,7 @@ struct BackendConfig {
     v("outlier_max_sigma", outlier_max_sigma, Check::kPositive);
     v("floor_merge_distance", floor_merge_distance, Check::kNonNegative);
     v("floor_merge_angle_deg", floor_merge_angle_deg, Check::kPositive);
-    v("linear_solver", linear_solver);
+    v("linear_solver", linear_solver, OneOf{{"sparse_schur", "sparse_normal_cholesky"}});
     v("max_iterations", max_iterations, Check::kPositive);
     v("function_tolerance", function_tolerance, Check::kPositive);
     v("threads", threads, Check::kPositive);

@@ -14,6 +14,8 @@
 // std::vector<std::string>, nested structs
 // that have VisitFields themselves, and std::vector of such structs (a YAML list of maps).
 #include <cmath>
+#include <initializer_list>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -33,6 +35,14 @@ void SaveYamlFile(const YAML::Node& node, const std::string& file);
 
 enum class Check { kAny, kPositive, kNonNegative, kProbability };
 
+// The values a string setting may take, e.g. v("type", type, OneOf{{"huber", "cauchy"}}): reading
+// another is an error naming the file, line and key and listing these.
+struct OneOf {
+  std::initializer_list<const char*> values;
+  bool Allows(const std::string& value) const;
+  std::string Describe() const;  // "huber, cauchy or none"
+};
+
 namespace config_detail {
 
 template <typename T, typename = void>
@@ -45,6 +55,17 @@ struct IsConfigStruct<T, std::void_t<decltype(std::declval<T&>().VisitFields(
 // "fx must be > 0" or an empty string when `value` passes `check`.
 std::string CheckValue(double value, Check check);
 int LineOf(const YAML::Node& node);
+
+// A number as YAML would show it ("7", "0.25"), for CrossCheck messages.
+std::string ShortNumber(double value);
+
+// A config struct may also check its fields together: `std::string CrossCheck() const` returns
+// what is wrong ("min_depth 7 must be below max_depth 6") or "" (ConfigReader and ConfigValidator
+// call it after the fields).
+template <typename T, typename = void>
+struct HasCrossCheck : std::false_type {};
+template <typename T>
+struct HasCrossCheck<T, std::void_t<decltype(std::declval<const T&>().CrossCheck())>> : std::true_type {};
 
 template <typename T>
 struct IsStructList : std::false_type {};
@@ -69,6 +90,10 @@ class ConfigReader {
       ConfigReader child(node, file_, prefix_ + key + ".");
       value.VisitFields(child);
       child.RejectUnknownKeys();
+      if constexpr (config_detail::HasCrossCheck<T>::value) {
+        const std::string problem = value.CrossCheck();
+        if (!problem.empty()) Fail(node, key, "is inconsistent: " + problem);
+      }
     } else if constexpr (config_detail::IsStructList<T>::value) {
       if (!node.IsSequence()) Fail(node, key, "expects a list of maps");
       T items;
@@ -78,11 +103,20 @@ class ConfigReader {
         items.emplace_back();
         items.back().VisitFields(child);
         child.RejectUnknownKeys();
+        if constexpr (config_detail::HasCrossCheck<typename T::value_type>::value) {
+          const std::string problem = items.back().CrossCheck();
+          if (!problem.empty()) Fail(node[i], (std::string(key) + "[" + std::to_string(i) + "]").c_str(), "is inconsistent: " + problem);
+        }
       }
       value = std::move(items);
     } else {
       ReadScalar(node, key, &value, check);
     }
+  }
+
+  void operator()(const char* key, std::string& value, const OneOf& choices) {
+    (*this)(key, value);
+    if (!choices.Allows(value)) Fail(map_[key], key, "must be " + choices.Describe() + ", not '" + value + "'");
   }
 
   // A list-valued key (e.g. the objects of a scene); an empty node when absent. Throws InputError
@@ -133,6 +167,7 @@ class ConfigWriter {
       node_[key] = value;
     }
   }
+  void operator()(const char* key, const std::string& value, const OneOf&) { (*this)(key, value); }
   const YAML::Node& node() const { return node_; }
 
  private:
@@ -150,11 +185,15 @@ class ConfigValidator {
       ConfigValidator child(prefix_ + key + ".");
       T copy = value;
       copy.VisitFields(child);
+      if constexpr (config_detail::HasCrossCheck<T>::value) Report(key, Inconsistent(value.CrossCheck()));
     } else if constexpr (config_detail::IsStructList<T>::value) {
       for (size_t i = 0; i < value.size(); ++i) {
         ConfigValidator child(prefix_ + key + "[" + std::to_string(i) + "].");
         auto copy = value[i];
         copy.VisitFields(child);
+        if constexpr (config_detail::HasCrossCheck<typename T::value_type>::value) {
+          Report((std::string(key) + "[" + std::to_string(i) + "]").c_str(), Inconsistent(value[i].CrossCheck()));
+        }
       }
     } else if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
       Report(key, config_detail::CheckValue(static_cast<double>(value), check));
@@ -163,7 +202,23 @@ class ConfigValidator {
     }
   }
 
+  void operator()(const char* key, const std::string& value, const OneOf& choices) {
+    if (!choices.Allows(value)) Report(key, "must be " + choices.Describe() + ", not '" + value + "'");
+  }
+
+  // The struct's own CrossCheck, at the top level (ValidateConfig).
+  template <typename T>
+  void CrossCheck(const T& value) const {
+    if constexpr (config_detail::HasCrossCheck<T>::value) {
+      const std::string problem = value.CrossCheck();
+      std::string name = prefix_;  // "render.noise." -> "render.noise "
+      if (!name.empty()) name.back() = ' ';
+      if (!problem.empty()) throw std::invalid_argument(name + "is inconsistent: " + problem);
+    }
+  }
+
  private:
+  static std::string Inconsistent(const std::string& problem) { return problem.empty() ? "" : "is inconsistent: " + problem; }
   void Report(const char* key, const std::string& problem) const;
   std::string prefix_;
 };
@@ -178,6 +233,10 @@ Config LoadConfigFile(const std::string& file) {
   ConfigReader reader(root, file);
   config.VisitFields(reader);
   reader.RejectUnknownKeys();
+  if constexpr (config_detail::HasCrossCheck<Config>::value) {
+    const std::string problem = config.CrossCheck();
+    if (!problem.empty()) ThrowInputError(file, 0, problem);
+  }
   return config;
 }
 
@@ -186,6 +245,7 @@ void ValidateConfig(const Config& config, const std::string& prefix = "") {
   ConfigValidator validator(prefix);
   Config copy = config;
   copy.VisitFields(validator);
+  validator.CrossCheck(config);
 }
 
 template <typename Config>

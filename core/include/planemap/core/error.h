@@ -1,5 +1,6 @@
 #pragma once
 // Errors at the file and config boundary. Algorithms return result structs instead (STYLE.md).
+#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -14,5 +15,15 @@ class InputError : public std::runtime_error {
 
 // "<file>:<line>: <message>"; line <= 0 leaves the line out.
 [[noreturn]] void ThrowInputError(const std::string& file, int line, const std::string& message);
+
+// Opens `file` for reading; throws InputError naming it when it is missing, unreadable or a
+// directory (std::ifstream opens a directory, then fails on the first read with a message that
+// names no file).
+std::ifstream OpenInputFile(const std::string& file, std::ios::openmode mode = std::ios::in);
+
+// Throws InputError naming `file` when it could not be written (a folder of that name, a missing
+// or read-only folder), so that a command fails before its work rather than after it. Leaves an
+// existing file as it was and creates none.
+void CheckWritableFile(const std::string& file);
 
 }  // namespace planemap

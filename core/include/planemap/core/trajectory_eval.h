@@ -27,7 +27,7 @@ struct EvalConfig {
     v("rpe_delta", rpe_delta, Check::kPositive);
     v("max_object_distance", max_object_distance, Check::kPositive);
     v("object_types", object_types);
-    v("object_alignment", object_alignment);
+    v("object_alignment", object_alignment, OneOf{{"first_pose", "ate", "none"}});
   }
 };
 

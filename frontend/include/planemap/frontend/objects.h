@@ -17,7 +17,7 @@ struct PatternNode {
   template <class V>
   void VisitFields(V&& v) {
     v("name", name);
-    v("orientation", orientation);
+    v("orientation", orientation, OneOf{{"floor", "horizontal", "vertical", "any"}});
   }
 };
 
@@ -27,6 +27,10 @@ struct GraphPattern {
   std::vector<std::string> edges;  // "a-b": nodes a and b intersect
   double min_height = 0.0;         // object height above the floor [m], 0 = no limit
   double max_height = 0.0;         // [m], 0 = no limit
+  std::string CrossCheck() const {
+    return max_height == 0.0 || min_height <= max_height ? "" : "min_height must not exceed max_height";
+  }
+
   template <class V>
   void VisitFields(V&& v) {
     v("class", class_name);
@@ -57,6 +61,10 @@ struct ObjectConfig {
   double grasp_max_height = 0.60;           // and up to this tall [m]
   double edge_length_tolerance = 0.03;      // a complete edge this much shorter than a cut one along
                                             // the same axis is not the object's whole dimension [m]
+
+  std::string CrossCheck() const {
+    return hand_span_min <= hand_span_max ? "" : "hand_span_min must not exceed hand_span_max";
+  }
 
   template <class V>
   void VisitFields(V&& v) {

@@ -1,5 +1,7 @@
 #pragma once
 // Step 1 of the frontend: depth + colour + intrinsics -> an organized, coloured point cloud.
+#include <string>
+
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -14,6 +16,10 @@ using Cloud = pcl::PointCloud<pcl::PointXYZRGB>;
 struct CloudConfig {
   double min_depth = 0.3;  // nearer readings are invalid [m]
   double max_depth = 6.0;  // farther readings are invalid [m] (Kinect-class noise exceeds 5 cm beyond)
+
+  std::string CrossCheck() const {
+    return min_depth < max_depth ? "" : "min_depth " + config_detail::ShortNumber(min_depth) + " must be below max_depth " + config_detail::ShortNumber(max_depth);
+  }
 
   template <class V>
   void VisitFields(V&& v) {

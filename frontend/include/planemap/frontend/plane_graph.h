@@ -2,6 +2,8 @@
 // Step 4 of the frontend: the plane graph (node = plane, edge = real intersection), its trihedral
 // angles (3-cycles) with their corners, the floor and other structure, and objects aggregated
 // from trihedral angles that share a graph edge, angle by angle (paper section 4.1).
+#include <cmath>
+#include <string>
 #include <vector>
 
 #include "planemap/core/config.h"
@@ -26,6 +28,12 @@ struct PlaneGraphConfig {
                                         // to sharing a line for a stable corner
   double resting_max_tilt_deg = 30.0;   // a top and a face within this of horizontal and vertical
                                         // meeting in a concave edge: one object rests on another [deg]
+
+  std::string CrossCheck() const {
+    if (up_in_camera.size() != 3) return "up_in_camera needs 3 numbers";
+    if (std::hypot(up_in_camera[0], up_in_camera[1], up_in_camera[2]) < 1e-6) return "up_in_camera must not be zero";
+    return "";
+  }
 
   template <class V>
   void VisitFields(V&& v) {

@@ -129,7 +129,7 @@ struct SegmenterConfig {
 
   template <class V>
   void VisitFields(V&& v) {
-    v("method", method);
+    v("method", method, OneOf{{"organized", "msac"}});
     v("min_inliers", min_inliers, Check::kPositive);
     v("coplanar_max_angle_deg", coplanar_max_angle_deg, Check::kNonNegative);
     v("coplanar_max_distance", coplanar_max_distance, Check::kNonNegative);

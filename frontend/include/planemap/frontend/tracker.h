@@ -153,7 +153,7 @@ struct TrackingConfig {
     v("max_correction_deg", max_correction_deg, Check::kPositive);
     v("odometry_sigma", odometry_sigma, Check::kPositive);
     v("odometry_sigma_deg", odometry_sigma_deg, Check::kPositive);
-    v("refine", refine);
+    v("refine", refine, OneOf{{"points", "icp", "none"}});
     v("refine_iterations", refine_iterations, Check::kPositive);
     v("refine_robust_scale", refine_robust_scale, Check::kNonNegative);
     v("refine_max_translation", refine_max_translation, Check::kPositive);

@@ -1,6 +1,7 @@
 #pragma once
 // Noise of a structured-light depth sensor (Kinect v1 / Xtion class), each part switchable.
 #include <cstdint>
+#include <string>
 
 #include "planemap/core/config.h"
 #include "planemap/core/image.h"
@@ -38,6 +39,12 @@ struct SensorNoiseConfig {
   double exposure = 0.02;           // exposure time before the frame stamp [s]
   int blur_samples = 5;             // poses rendered across the exposure
   double blur_max_spread = 0.03;    // depth spread across the exposure that voids a reading [m]
+
+  std::string CrossCheck() const {
+    if (min_depth >= max_depth) return "min_depth " + config_detail::ShortNumber(min_depth) + " must be below max_depth " + config_detail::ShortNumber(max_depth);
+    if (grazing_start_deg > grazing_full_deg) return "grazing_start_deg must not exceed grazing_full_deg";
+    return "";
+  }
 
   template <class V>
   void VisitFields(V&& v) {
