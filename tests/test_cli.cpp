@@ -188,6 +188,8 @@ TEST(Cli, ErrorsAreOneLineNamingTheFileAndExitNonZero) {
 
   // Numbers that are no numbers, and a seed that is no seed, before any work.
   EXPECT_TRUE(FailsWith("approach --start 0 0 nan", "--start needs finite numbers"));
+  EXPECT_TRUE(FailsWith("approach --rate 1e9", "--rate must be a positive number up to 1000"));  // a frame per ns
+  EXPECT_TRUE(FailsWith("approach --table --seeds 2147483647", "--seeds must be at most 100000"));  // was bad_alloc
   EXPECT_TRUE(FailsWith("nees --runs 1 --seed -5", "--seed: Value -5 not in range 0 to 2147483647"));
   EXPECT_TRUE(FailsWith("render --max-frames -1", "--max-frames: Value -1 not in range 1 to"));  // was: every frame
 }

@@ -198,7 +198,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   const auto finite = [](const std::vector<double>& v) { return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }); };
   if (!finite(options.start)) throw InputError("--start needs finite numbers: x y [m] heading [deg]");
   if (!finite(options.move_object_by)) throw InputError("--move-by needs finite numbers: dx dy [m] dyaw [deg]");
-  if (!(options.rate > 0.0) || !std::isfinite(options.rate)) throw InputError("--rate must be a positive number [Hz]");
+  // Every frame is rendered and processed: past a kilohertz the run would take days of frames.
+  if (!(options.rate > 0.0) || !(options.rate <= 1000.0)) throw InputError("--rate must be a positive number up to 1000 [Hz]");
   if (!(options.max_time > 0.0) || !std::isfinite(options.max_time)) throw InputError("--max-time must be a positive number [s]");
   if (!finite({options.move_object_at, options.drop_at})) throw InputError("--move-object-at and --drop-at must be finite [s]");
   if (!(options.drop_duration >= 0.0) || !std::isfinite(options.drop_duration)) throw InputError("--drop-for must be a number >= 0 [s]");

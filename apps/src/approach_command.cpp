@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -225,6 +226,8 @@ int RunApproach(const ApproachCommandOptions& options) {
   }
   if (!options.report.empty() || !options.map.empty()) throw InputError("--report and --map are for a single run, not --table");
   if (options.seeds < 1) throw InputError("--seeds must be 1 or more");
+  if (options.seeds > 100000) throw InputError("--seeds must be at most 100000 (3 runs each)");
+  if (options.run.seed > std::numeric_limits<int>::max() - options.seeds) throw InputError("--seed + --seeds must fit in an int");
   // Every run reads the files as they are now: an edit while the table runs changes nothing.
   const std::shared_ptr<const ApproachInputs> inputs = LoadApproachInputs(options.run);
   const std::unique_ptr<std::ofstream> trace = OpenTrace(options.trace);

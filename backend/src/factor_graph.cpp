@@ -70,14 +70,14 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
                          const std::vector<Pose3>& initial, const BackendConfig& config, const GraphSpec& spec)
     : map_(map), config_(config), spec_(spec) {
   SolverType(config.linear_solver);  // fails early on a bad name
-  loss_ = MakeLoss(config.loss);
-  pose_manifold_ = new PoseManifold;
-  plane_manifold_ = new PlaneManifold;
+  loss_.reset(MakeLoss(config.loss));
+  pose_manifold_ = std::make_unique<PoseManifold>();
+  plane_manifold_ = std::make_unique<PlaneManifold>();
   const double min_std_normal = config.plane_min_std_deg * kDegToRad;
 
   for (size_t i = 0; i < frames.size(); ++i) {
     poses_.push_back(ToBlock(initial[i]));
-    problem_.AddParameterBlock(poses_.back().data(), 7, pose_manifold_);
+    problem_.AddParameterBlock(poses_.back().data(), 7, pose_manifold_.get());
   }
   // The gauge.
   if (!poses_.empty()) {
@@ -153,7 +153,7 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
       }
       auto [it, added] = landmarks_.try_emplace(landmark, ToBlock(map.landmarks[landmark].plane));
       if (added) {
-        problem_.AddParameterBlock(it->second.data(), 4, plane_manifold_);
+        problem_.AddParameterBlock(it->second.data(), 4, plane_manifold_.get());
         if (!spec.free_landmarks) problem_.SetParameterBlockConstant(it->second.data());
       }
       observations_.push_back(
@@ -201,7 +201,8 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
     if (held.size() == 3) {
       problem_.SetParameterBlockConstant(c.dimensions.data());
     } else if (!held.empty()) {
-      problem_.SetManifold(c.dimensions.data(), new ceres::SubsetManifold(3, held));
+      dimension_manifolds_.push_back(std::make_unique<ceres::SubsetManifold>(3, held));
+      problem_.SetManifold(c.dimensions.data(), dimension_manifolds_.back().get());
     }
   }
 }
@@ -232,7 +233,7 @@ void FactorGraph::AddCuboids(const std::vector<const FrameObservations*>& frames
     for (const auto& [l, face] : faces) face_of_landmark_[l] = face;
     cuboid_of_object[o.id] = static_cast<int>(cuboids_.size());
     cuboids_.push_back(c);
-    problem_.AddParameterBlock(cuboids_.back().pose.data(), 7, pose_manifold_);
+    problem_.AddParameterBlock(cuboids_.back().pose.data(), 7, pose_manifold_.get());
     // The edges' common error: zero-mean with the systematic error's size, or none.
     double* bias = cuboids_.back().edge_bias.data();
     problem_.AddParameterBlock(bias, 3);

@@ -55,19 +55,25 @@ class FactorGraph {
     bool top_seen = false;       // its top face (z, +1) was observed
   };
   void AddCuboids(const std::vector<const FrameObservations*>& frames, const std::vector<Pose3>& initial);
-  ceres::LossFunction* Loss() const { return loss_; }
+  ceres::LossFunction* Loss() const { return loss_.get(); }
 
   const PlaneMap& map_;
   BackendConfig config_;
   GraphSpec spec_;
+  // The loss and manifolds are this graph's, shared by many blocks, and declared before problem_
+  // so that they outlive it. Ceres owns only what it was given: a graph with no plane (or no
+  // residual) never gave it the plane manifold (or the loss), and they leaked.
+  std::unique_ptr<ceres::LossFunction> loss_;  // null: plain least squares
+  std::unique_ptr<ceres::Manifold> pose_manifold_;
+  std::unique_ptr<ceres::Manifold> plane_manifold_;
+  std::deque<std::unique_ptr<ceres::Manifold>> dimension_manifolds_;  // a box's held dimensions
   ceres::Problem problem_{[] {
     ceres::Problem::Options options;
     options.enable_fast_removal = true;  // outlier rounds remove residual blocks
+    options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     return options;
   }()};
-  ceres::LossFunction* loss_ = nullptr;   // shared, owned by problem_ (null: plain least squares)
-  ceres::Manifold* pose_manifold_ = nullptr;
-  ceres::Manifold* plane_manifold_ = nullptr;
   std::deque<PoseBlock> poses_;            // deques: blocks keep their addresses
   std::map<int, PlaneBlock> landmarks_;    // by landmark id
   std::deque<Cuboid> cuboids_;
