@@ -1,7 +1,6 @@
 // planemap render: a simulated RGB-D sequence in the TUM layout, with exact ground truth.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -12,6 +11,7 @@
 #include "planemap/apps/commands.h"
 #include "planemap/apps/depth_summary.h"
 #include "planemap/core/error.h"
+#include "planemap/io/image_io.h"
 #include "planemap/io/tum_sequence.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
@@ -69,14 +69,8 @@ int RunRender(const RenderOptions& options) {
     frame.depth = std::move(rendered.depth);
     frame.color = std::move(rendered.color);
     frame.T_world_camera = pose.T_world_camera;
-    // What the 16-bit PNG cannot hold is written as no depth (WriteDepthPng): counted here as such.
-    float* z = frame.depth.data();
-    for (int i = 0; i < frame.depth.width() * frame.depth.height(); ++i) {
-      if (IsValidDepth(z[i]) && std::round(z[i] * camera.depth_scale) > 65535.0) {
-        z[i] = 0.0f;
-        ++too_far;
-      }
-    }
+    // What the 16-bit PNG cannot hold is written as no depth: counted here as such.
+    too_far += ClearDepthBeyondPng(&frame.depth, camera.depth_scale);
     stats.Add(frame.depth);
     writer.Add(frame, &rendered.labels);
     if ((k + 1) % report_every == 0 || k + 1 == trajectory.size()) {

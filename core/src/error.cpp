@@ -18,13 +18,14 @@ std::ifstream OpenInputFile(const std::string& file, std::ios::openmode mode) {
   return in;
 }
 
-void CheckWritableFile(const std::string& file) {
+void CheckWritableFile(const std::string& file, const std::string& what) {
+  const std::string cannot = what.empty() ? "cannot write" : "cannot write " + what;
   std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) ThrowInputError(file, 0, "cannot write: a folder of that name exists");
+  if (std::filesystem::is_directory(file, ec)) ThrowInputError(file, 0, cannot + ": a folder of that name exists");
   const bool existed = std::filesystem::exists(file, ec);
   {
     std::ofstream out(file, std::ios::app);  // opens without truncating an existing file
-    if (!out) ThrowInputError(file, 0, "cannot write (does its folder exist, may it be written?)");
+    if (!out) ThrowInputError(file, 0, cannot + " (does its folder exist, may it be written?)");
   }
   if (!existed) std::filesystem::remove(file, ec);
 }

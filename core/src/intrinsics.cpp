@@ -15,10 +15,10 @@ CameraIntrinsics CameraIntrinsics::Scaled(double factor) const {
 }
 
 CameraIntrinsics LoadCameraIntrinsics(const std::string& file) {
-  const CameraIntrinsics camera = LoadConfigFile<CameraIntrinsics>(file);  // values, types, unknown keys
+  const YAML::Node root = LoadYamlFile(file);
+  const CameraIntrinsics camera = LoadConfigNode<CameraIntrinsics>(root, file);  // values, types, unknown keys
   // A calibration is all of one camera's: a key left out would silently take another camera's
   // value (the TUM/OpenNI default) and every point would be off.
-  const YAML::Node root = LoadYamlFile(file);
   std::string missing;
   for (const char* key : {"fx", "fy", "cx", "cy", "width", "height", "depth_scale"}) {
     if (!root.IsMap() || !root[key]) missing += std::string(missing.empty() ? "" : ", ") + key;

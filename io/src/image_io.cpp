@@ -108,17 +108,35 @@ void WriteColorPng(const std::string& file, const ColorImage& color) {
   WriteOrThrow(file, bgr);
 }
 
+namespace {
+// A depth in PNG units; 0 (no data) when invalid or past what 16 bits hold.
+std::uint16_t DepthUnits(float z, double depth_scale) {
+  const double units = IsValidDepth(z) ? std::round(z * depth_scale) : 0.0;
+  return units <= 65535.0 ? static_cast<std::uint16_t>(units) : 0;
+}
+}  // namespace
+
 void WriteDepthPng(const std::string& file, const DepthImage& depth, double depth_scale) {
   cv::Mat image(depth.height(), depth.width(), CV_16UC1);
   for (int v = 0; v < depth.height(); ++v) {
     auto* row = image.ptr<std::uint16_t>(v);
-    for (int u = 0; u < depth.width(); ++u) {
-      const float z = depth.at(u, v);
-      const double units = IsValidDepth(z) ? std::round(z * depth_scale) : 0.0;
-      row[u] = units <= 65535.0 ? static_cast<std::uint16_t>(units) : 0;
-    }
+    for (int u = 0; u < depth.width(); ++u) row[u] = DepthUnits(depth.at(u, v), depth_scale);
   }
   WriteOrThrow(file, image);
+}
+
+size_t ClearDepthBeyondPng(DepthImage* depth, double depth_scale) {
+  size_t cleared = 0;
+  for (int v = 0; v < depth->height(); ++v) {
+    for (int u = 0; u < depth->width(); ++u) {
+      float& z = depth->at(u, v);
+      if (IsValidDepth(z) && DepthUnits(z, depth_scale) == 0) {
+        z = 0.0f;
+        ++cleared;
+      }
+    }
+  }
+  return cleared;
 }
 
 void WriteLabelPng(const std::string& file, const LabelImage& labels) {

@@ -232,17 +232,7 @@ ReportAssets LoadReportAssets(const std::string& web_dir) {
   return assets;
 }
 
-void CheckReportWritable(const std::string& file) {
-  std::error_code ec;
-  const bool existed = fs::exists(file, ec);
-  if (fs::is_directory(file, ec))
-    ThrowInputError(file, 0, "cannot write the report: a folder of that name exists");
-  {
-    std::ofstream out(file, std::ios::app);  // opens without truncating an existing file
-    if (!out) ThrowInputError(file, 0, "cannot write the report (does its folder exist, may it be written?)");
-  }
-  if (!existed) fs::remove(file, ec);
-}
+void CheckReportWritable(const std::string& file) { CheckWritableFile(file, "the report"); }
 
 void WriteHtmlReport(const std::string& file, const ReportData& data, const ReportAssets& assets) {
   std::string summary;

@@ -224,9 +224,9 @@ class ConfigValidator {
 };
 
 // Loads a whole YAML file into a config struct (the file's top level is the struct).
+// Reads an already parsed YAML document into a config struct; `file` names it in errors.
 template <typename Config>
-Config LoadConfigFile(const std::string& file) {
-  const YAML::Node root = LoadYamlFile(file);
+Config LoadConfigNode(const YAML::Node& root, const std::string& file) {
   Config config;
   if (root.IsNull()) return config;
   if (!root.IsMap()) ThrowInputError(file, config_detail::LineOf(root), "expected a map of settings");
@@ -238,6 +238,11 @@ Config LoadConfigFile(const std::string& file) {
     if (!problem.empty()) ThrowInputError(file, 0, problem);
   }
   return config;
+}
+
+template <typename Config>
+Config LoadConfigFile(const std::string& file) {
+  return LoadConfigNode<Config>(LoadYamlFile(file), file);
 }
 
 template <typename Config>

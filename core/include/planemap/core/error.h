@@ -23,7 +23,8 @@ std::ifstream OpenInputFile(const std::string& file, std::ios::openmode mode = s
 
 // Throws InputError naming `file` when it could not be written (a folder of that name, a missing
 // or read-only folder), so that a command fails before its work rather than after it. Leaves an
-// existing file as it was and creates none.
-void CheckWritableFile(const std::string& file);
+// existing file as it was and creates none. `what` names the output in the message ("the report":
+// "cannot write the report ...").
+void CheckWritableFile(const std::string& file, const std::string& what = "");
 
 }  // namespace planemap

@@ -1,5 +1,6 @@
 #pragma once
 // PNG reading and writing at the boundary (OpenCV imgcodecs). Errors name the file.
+#include <cstddef>
 #include <string>
 
 #include "planemap/core/image.h"
@@ -20,6 +21,10 @@ void WriteColorPng(const std::string& file, const ColorImage& color);
 // Depth rounded to the nearest unit of 1/depth_scale m; depth that does not fit in 16 bits
 // (beyond 65535 / depth_scale m) is written as 0, no data, rather than clamped to a wrong value.
 void WriteDepthPng(const std::string& file, const DepthImage& depth, double depth_scale);
+
+// Sets the pixels WriteDepthPng would write as 0 (valid depth past 65535 units) to 0, as they
+// will be read back; returns how many there were.
+size_t ClearDepthBeyondPng(DepthImage* depth, double depth_scale);
 void WriteLabelPng(const std::string& file, const LabelImage& labels);
 
 }  // namespace planemap
