@@ -207,13 +207,12 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
 }
 
 
-// 4. Assign every valid pixel to the nearest plane among those of its cell and the 8 cells
-//    around it, if it is close enough: this takes back the pixels of edge and corner cells.
-//    Pixels are visited in row order, so each plane's inliers come out sorted.
-//    A pixel close enough to two planes (near their intersection, where the noise decides
-//    which is nearer) stays an inlier of the nearer one but does not pull on its refit.
 // Step 4 on one pass: every usable pixel goes to the nearest plane among those of its cell and
-// the 8 cells around it, if close enough. Inliers of region r go to (*inliers)[offset + r].
+// the 8 cells around it, if it is close enough: this takes back the pixels of edge and corner
+// cells. Pixels are visited in row order, so each plane's inliers come out sorted. A pixel close
+// enough to two planes (near their intersection, where the noise decides which is nearer) stays
+// an inlier of the nearer one but does not pull on its refit. Inliers of region r go to
+// (*inliers)[offset + r].
 void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, const Pass& pass,
                 const OrganizedSegmenterConfig& c, size_t offset, std::vector<std::vector<int>>* inliers,
                 std::vector<std::array<double, 10>>* sums, std::vector<double>* fit_count,
@@ -222,64 +221,101 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
   const int cs = pass.cs, cw = pass.cw, ch = pass.ch;
   const std::vector<Cell>& cells = pass.cells;
   const std::vector<Region>& merged = pass.regions;
-  auto point = [&](int u, int v) -> const pcl::PointXYZRGB& { return cloud.points[static_cast<size_t>(v) * w + u]; };
-  std::vector<std::array<int, 9>> candidates(cells.size());
-  std::vector<int> candidate_count(cells.size(), 0);
+  // Each cell's candidate planes side by side (cell i's are [first[i], first[i + 1])), so the
+  // pixel loop reads them without going through the regions.
+  struct Candidate {
+    double nx, ny, nz, d;
+    int region;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<int> first(cells.size() + 1, 0);
   for (int cy = 0; cy < ch; ++cy) {
     for (int cx = 0; cx < cw; ++cx) {
       const int i = cy * cw + cx;
+      first[i] = static_cast<int>(candidates.size());
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           const int x = cx + dx, y = cy + dy;
           if (x < 0 || x >= cw || y < 0 || y >= ch) continue;
           const int r = cells[y * cw + x].region;
-          int* begin = candidates[i].data();
-          int* end = begin + candidate_count[i];
-          if (r >= 0 && std::find(begin, end, r) == end) candidates[i][candidate_count[i]++] = r;
+          if (r < 0) continue;
+          const auto known = std::find_if(candidates.begin() + first[i], candidates.end(),
+                                          [r](const Candidate& k) { return k.region == r; });
+          if (known != candidates.end()) continue;
+          const QuickFit& f = merged[r].fit;
+          candidates.push_back({f.normal.x(), f.normal.y(), f.normal.z(), f.offset, r});
         }
       }
     }
   }
-  // Row by row (so each plane's inliers come out sorted), a row's cells one after another.
+  first[cells.size()] = static_cast<int>(candidates.size());
+  // The region the last pixels went to: its sums, count and box are kept here, in registers,
+  // while pixels go on joining it (the same additions in the same order as into its entry).
+  int current = -1;
+  std::array<double, 10> s{};
+  double count_held = 0.0;
+  Eigen::Vector3d low, high;
+  auto hold = [&](int region) {
+    if (current >= 0) {
+      (*sums)[offset + current] = s;
+      (*fit_count)[offset + current] = count_held;
+      (*bounds)[offset + current].low = low;
+      (*bounds)[offset + current].high = high;
+    }
+    current = region;
+    if (current < 0) return;
+    s = (*sums)[offset + current];
+    count_held = (*fit_count)[offset + current];
+    low = (*bounds)[offset + current].low;
+    high = (*bounds)[offset + current].high;
+  };
   for (int v = 0; v < h; ++v) {
     const int cell_row = (v / cs) * cw;
     const std::uint8_t* usable_row = &usable[static_cast<size_t>(v) * w];
+    const pcl::PointXYZRGB* point_row = &cloud.points[static_cast<size_t>(v) * w];
     for (int cx = 0; cx < cw; ++cx) {
-      const int cell = cell_row + cx;
-      const int count = candidate_count[cell];
+      const Candidate* candidate = candidates.data() + first[cell_row + cx];
+      const int count = first[cell_row + cx + 1] - first[cell_row + cx];
       if (count == 0) continue;
-      const int* candidate = candidates[cell].data();
       for (int u = cx * cs, u_end = std::min(w, u + cs); u < u_end; ++u) {
         if (!usable_row[u]) continue;
-        const auto& p = point(u, v);
+        const pcl::PointXYZRGB& p = point_row[u];
         const double x = p.x, y = p.y, z = p.z;
         const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, z);
         double best = limit;
         int best_region = -1, close_planes = 0;
-        for (int k = 0; k < count; ++k) {
-          const QuickFit& f = merged[candidate[k]].fit;
-          const double distance = std::abs(f.normal.x() * x + f.normal.y() * y + f.normal.z() * z + f.offset);
-          if (distance < limit) ++close_planes;
-          if (distance < best) {
-            best = distance;
-            best_region = candidate[k];
+        if (count == 1) {  // most cells: one plane around them (the loop's test, unrolled)
+          const Candidate& f = candidate[0];
+          if (std::abs(f.nx * x + f.ny * y + f.nz * z + f.d) < limit) best_region = f.region, close_planes = 1;
+        } else {
+          for (int k = 0; k < count; ++k) {
+            const Candidate& f = candidate[k];
+            const double distance = std::abs(f.nx * x + f.ny * y + f.nz * z + f.d);
+            if (distance < limit) ++close_planes;
+            if (distance < best) {
+              best = distance;
+              best_region = f.region;
+            }
           }
         }
         if (best_region < 0) continue;
+        if (best_region != current) hold(best_region);
         (*inliers)[offset + best_region].push_back(v * w + u);
-        (*bounds)[offset + best_region].Extend(Eigen::Vector3d(x, y, z));
+        const Eigen::Vector3d q(x, y, z);
+        low = low.cwiseMin(q);
+        high = high.cwiseMax(q);
         if (close_planes > 1) {
           (*ambiguous)[v * w + u] = 1;
           continue;
         }
         const double wt = DepthNoiseWeight(z);
-        auto& s = (*sums)[offset + best_region];
         s[0] += wt; s[1] += wt * x; s[2] += wt * y; s[3] += wt * z;
         s[4] += wt * x * x; s[5] += wt * x * y; s[6] += wt * x * z; s[7] += wt * y * y; s[8] += wt * y * z; s[9] += wt * z * z;
-        (*fit_count)[offset + best_region] += 1;
+        count_held += 1;
       }
     }
   }
+  hold(-1);
 }
 
 // A pixel's inlier distance at depth z [m].
