@@ -109,9 +109,11 @@ void WriteColorPng(const std::string& file, const ColorImage& color) {
 }
 
 namespace {
+// A depth rounded to PNG units; 0 when invalid.
+double RoundedUnits(float z, double depth_scale) { return IsValidDepth(z) ? std::round(z * depth_scale) : 0.0; }
 // A depth in PNG units; 0 (no data) when invalid or past what 16 bits hold.
 std::uint16_t DepthUnits(float z, double depth_scale) {
-  const double units = IsValidDepth(z) ? std::round(z * depth_scale) : 0.0;
+  const double units = RoundedUnits(z, depth_scale);
   return units <= 65535.0 ? static_cast<std::uint16_t>(units) : 0;
 }
 }  // namespace
@@ -130,7 +132,7 @@ size_t ClearDepthBeyondPng(DepthImage* depth, double depth_scale) {
   for (int v = 0; v < depth->height(); ++v) {
     for (int u = 0; u < depth->width(); ++u) {
       float& z = depth->at(u, v);
-      if (IsValidDepth(z) && DepthUnits(z, depth_scale) == 0) {
+      if (RoundedUnits(z, depth_scale) > 65535.0) {  // not a depth under half a unit: that is near, not far
         z = 0.0f;
         ++cleared;
       }

@@ -223,7 +223,6 @@ class ConfigValidator {
   std::string prefix_;
 };
 
-// Loads a whole YAML file into a config struct (the file's top level is the struct).
 // Reads an already parsed YAML document into a config struct; `file` names it in errors.
 template <typename Config>
 Config LoadConfigNode(const YAML::Node& root, const std::string& file) {
@@ -240,6 +239,7 @@ Config LoadConfigNode(const YAML::Node& root, const std::string& file) {
   return config;
 }
 
+// Loads a whole YAML file into a config struct (the file's top level is the struct).
 template <typename Config>
 Config LoadConfigFile(const std::string& file) {
   return LoadConfigNode<Config>(LoadYamlFile(file), file);

@@ -22,8 +22,8 @@ void WriteColorPng(const std::string& file, const ColorImage& color);
 // (beyond 65535 / depth_scale m) is written as 0, no data, rather than clamped to a wrong value.
 void WriteDepthPng(const std::string& file, const DepthImage& depth, double depth_scale);
 
-// Sets the pixels WriteDepthPng would write as 0 (valid depth past 65535 units) to 0, as they
-// will be read back; returns how many there were.
+// Sets the valid depths past what WriteDepthPng's 16 bits hold (over 65535 units once rounded,
+// which it writes as 0) to 0, as they will be read back; returns how many there were.
 size_t ClearDepthBeyondPng(DepthImage* depth, double depth_scale);
 void WriteLabelPng(const std::string& file, const LabelImage& labels);
 
