@@ -501,17 +501,20 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
   const int w = static_cast<int>(cloud.width);
   for (size_t k = 0; k < planes.size(); ++k) {
     boxes[k] = InlierBounds(cloud, planes[k]);
+    const std::vector<int>& inliers = planes[k].inliers;
+    for (int i : inliers) plane_of_pixel[i] = static_cast<int>(k);
+    // Sorted by pixel index: each row's inliers are one run, whose first and last give its
+    // columns (found by bisection, not by visiting the run); the first and last give the rows.
     Window& win = pixels[k];
-    int row_start = planes[k].inliers.empty() ? 0 : (planes[k].inliers.front() / w) * w;
-    for (int i : planes[k].inliers) {  // sorted by pixel index: the row advances, no division
-      plane_of_pixel[i] = static_cast<int>(k);
-      while (i >= row_start + w) row_start += w;
-      const int u = i - row_start;
-      win.u0 = std::min(win.u0, u), win.u1 = std::max(win.u1, u);
+    for (auto it = inliers.begin(); it != inliers.end();) {
+      const int row_start = (*it / w) * w;
+      const auto row_end = std::lower_bound(it, inliers.end(), row_start + w);
+      win.u0 = std::min(win.u0, *it - row_start), win.u1 = std::max(win.u1, *(row_end - 1) - row_start);
+      it = row_end;
     }
-    if (!planes[k].inliers.empty()) {  // sorted by pixel index: first and last give the rows
-      win.v0 = planes[k].inliers.front() / w;
-      win.v1 = planes[k].inliers.back() / w;
+    if (!inliers.empty()) {
+      win.v0 = inliers.front() / w;
+      win.v1 = inliers.back() / w;
     }
   }
   // Plane k's pixel box grown by band_width seen at its nearest depth, clipped to the image.

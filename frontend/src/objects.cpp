@@ -82,6 +82,9 @@ PatternsConfig LoadPatterns(const std::string& file) {
 
 double ObjectHeight(const Cloud& cloud, const FrameModel& model, const FrameObject& object, const Eigen::Vector3d& up) {
   std::vector<double> heights;
+  size_t total = 0;
+  for (int p : object.planes) total += model.planes[p].inliers.size();
+  heights.reserve(total);
   for (int p : object.planes) {
     for (int i : model.planes[p].inliers) {
       const Eigen::Vector3d x = cloud[i].getVector3fMap().cast<double>();
