@@ -25,7 +25,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <map>
 #include <random>
 #include <string>
@@ -40,6 +39,7 @@
 #include "planemap/core/observations.h"
 #include "planemap/core/plane_map.h"
 #include "planemap/core/statistics.h"
+#include "bench_main.h"
 
 namespace planemap {
 namespace {
@@ -476,15 +476,5 @@ void PrintSummary() {
 }  // namespace planemap
 
 int main(int argc, char** argv) {
-  // The table goes to stdout after the console report only (not into JSON or CSV output).
-  bool console = true;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--benchmark_format=", 19) == 0 && std::strcmp(argv[i] + 19, "console") != 0) console = false;
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  if (console) planemap::PrintSummary();
-  benchmark::Shutdown();
-  return 0;
+  return planemap::RunBenchmarksThenSummary(argc, argv, planemap::PrintSummary);
 }

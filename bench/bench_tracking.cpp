@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <functional>
 #include <map>
 #include <memory>
@@ -37,6 +36,7 @@
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
 #include "planemap/sim/walk.h"
+#include "bench_main.h"
 
 namespace planemap {
 namespace {
@@ -304,15 +304,5 @@ void PrintSummary() {
 
 int main(int argc, char** argv) {
   omp_set_num_threads(1);
-  // The table goes to stdout after the console report only (not into JSON or CSV output).
-  bool console = true;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--benchmark_format=", 19) == 0 && std::strcmp(argv[i] + 19, "console") != 0) console = false;
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  if (console) planemap::PrintSummary();
-  benchmark::Shutdown();
-  return 0;
+  return planemap::RunBenchmarksThenSummary(argc, argv, planemap::PrintSummary);
 }
