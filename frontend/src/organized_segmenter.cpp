@@ -249,8 +249,8 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
     }
   }
   first[cells.size()] = static_cast<int>(candidates.size());
-  // A region takes at least most of its cells' pixels: room for them up front spares the
-  // vector's doublings on the way there.
+  // Room for as many inliers as a region's cells hold pixels (it takes most of them, and more
+  // from the cells around): spares the vector's doublings on the way there.
   for (size_t r = 0; r < merged.size(); ++r) (*inliers)[offset + r].reserve(static_cast<size_t>(merged[r].moments.n));
   // The region the last pixels went to: its sums, count and box are kept here, in registers,
   // while pixels go on joining it (the same additions in the same order as into its entry).
