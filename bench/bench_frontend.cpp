@@ -3,7 +3,7 @@
 // `msac` reference), PCL's OrganizedMultiPlaneSegmentation (with integral-image normals) and
 // OpenCV's rgbd::RgbdPlane. Recall = labelled surfaces (>= 1000 valid pixels) matched by a plane
 // with IoU >= 0.5. Also the whole frontend per frame. One thread.
-// Run: ./build/bench/bench_frontend [--benchmark_format=json]
+// Run: ./build/bench/bench_frontend [--benchmark_format=json] (the summary table: console output only)
 #include <cstdio>
 #include <map>
 
@@ -20,6 +20,7 @@
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
 #include "planemap/sim/walk.h"
+#include "bench_main.h"
 
 namespace planemap {
 namespace {
@@ -266,23 +267,30 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   void ReportRuns(const std::vector<Run>& runs) override {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& run : runs) {
-      const std::string name = run.benchmark_name().substr(0, run.benchmark_name().find('/'));
+      // With --benchmark_repetitions, the table shows each method's median (the repetitions
+      // and the other aggregates are in the report above).
+      if (run.run_type == Run::RT_Aggregate && run.aggregate_name != "median") continue;
+      if (run.run_type == Run::RT_Iteration && run.repetitions > 1) continue;
+      const std::string name = run.run_name.function_name;
       ms_[name] = run.GetAdjustedRealTime();
       if (run.counters.count("recall")) recall_[name] = run.counters.at("recall").value;
     }
   }
   void PrintSummary() const {
-    if (!ms_.count("BM_PclSacMsac") || !ms_.count("BM_Organized")) return;
-    std::printf("\nPlane segmentation of 640x480 frames, one thread (times relative to our organized segmenter):\n");
-    std::printf("  %-28s %9s %12s %8s\n", "", "ms/frame", "x organized", "recall");
-    for (const auto& [name, recall] : recall_) {
-      std::printf("  %-28s %9.2f %11.1fx %8.3f\n", name.c_str(), ms_.at(name), ms_.at(name) / ms_.at("BM_Organized"), recall);
+    // Each part needs the benchmarks it compares (--benchmark_filter may leave some out).
+    if (ms_.count("BM_Organized")) {
+      std::printf("\nPlane segmentation of 640x480 frames, one thread (times relative to our organized segmenter):\n");
+      std::printf("  %-28s %9s %12s %8s\n", "", "ms/frame", "x organized", "recall");
+      for (const auto& [name, recall] : recall_) {
+        std::printf("  %-28s %9.2f %11.1fx %8.3f\n", name.c_str(), ms_.at(name), ms_.at(name) / ms_.at("BM_Organized"), recall);
+      }
     }
-    if (!ms_.count("BM_Cloud") || !ms_.count("BM_Frontend")) return;  // left out by --benchmark_filter
+    if (!ms_.count("BM_Cloud") || !ms_.count("BM_Frontend")) return;
+    if (!ms_.count("BM_Organized")) std::printf("\n");
     std::printf("  depth to cloud: %.2f ms/frame; "
                 "whole frontend (depth image to classified objects): %.2f ms/frame\n",
                 ms_.at("BM_Cloud"), ms_.at("BM_Frontend"));
-    if (ms_.count("BM_StageIntersections") && ms_.count("BM_StageObjects")) {
+    if (ms_.count("BM_Organized") && ms_.count("BM_StageIntersections") && ms_.count("BM_StageObjects")) {
       std::printf("  by stage, each timed on its own: cloud %.2f, planes %.2f, floor/walls and intersections %.2f, "
                   "graph, objects, sizes and classes %.2f ms/frame\n",
                   ms_.at("BM_Cloud"), ms_.at("BM_Organized"), ms_.at("BM_StageIntersections"), ms_.at("BM_StageObjects"));
@@ -306,9 +314,10 @@ class SummaryReporter : public benchmark::ConsoleReporter {
 
 int main(int argc, char** argv) {
   omp_set_num_threads(1);
+  const bool console = planemap::ReportsToConsole(argc, argv);
   benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   planemap::SummaryReporter reporter;
-  const bool console = argc == 1;
   if (console) {
     benchmark::RunSpecifiedBenchmarks(&reporter);
     reporter.PrintSummary();
