@@ -278,15 +278,15 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   }
   void PrintSummary() const {
     // Each part needs the benchmarks it compares (--benchmark_filter may leave some out).
+    std::printf("\n");
     if (ms_.count("BM_Organized")) {
-      std::printf("\nPlane segmentation of 640x480 frames, one thread (times relative to our organized segmenter):\n");
+      std::printf("Plane segmentation of 640x480 frames, one thread (times relative to our organized segmenter):\n");
       std::printf("  %-28s %9s %12s %8s\n", "", "ms/frame", "x organized", "recall");
       for (const auto& [name, recall] : recall_) {
         std::printf("  %-28s %9.2f %11.1fx %8.3f\n", name.c_str(), ms_.at(name), ms_.at(name) / ms_.at("BM_Organized"), recall);
       }
     }
     if (!ms_.count("BM_Cloud") || !ms_.count("BM_Frontend")) return;
-    if (!ms_.count("BM_Organized")) std::printf("\n");
     std::printf("  depth to cloud: %.2f ms/frame; "
                 "whole frontend (depth image to classified objects): %.2f ms/frame\n",
                 ms_.at("BM_Cloud"), ms_.at("BM_Frontend"));
