@@ -54,10 +54,13 @@ void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other,
                        std::vector<Eigen::Vector3d>* points, std::vector<Eigen::Vector3d>* band) {
   std::vector<double> distance;  // of each band point to `own` [m]; negative: nearer another plane
   const size_t first = band->size();
+  // Copies the loop can keep in registers (the vectors it appends to might alias the originals).
+  const Plane own_plane = own.plane, other_plane = other.plane;
+  const double far = std::max(c.d_thresh, c.band_width);
   ForInliersIn(own, window, cloud, [&](const Eigen::Vector3d& p) {
-    const double d_other = std::abs(other.plane.SignedDistance(p)); // eq. (3) / (5)
-    if (d_other >= std::max(c.d_thresh, c.band_width)) return;      // most of the window: far from the edge
-    const double d_own = std::abs(own.plane.SignedDistance(p));     // eq. (2) / (4)
+    const double d_other = std::abs(other_plane.SignedDistance(p));  // eq. (3) / (5)
+    if (d_other >= far) return;                                      // most of the window: far from the edge
+    const double d_own = std::abs(own_plane.SignedDistance(p));      // eq. (2) / (4)
     if (d_own < c.d_thresh && d_other < c.d_thresh && d_own >= c.d_min && d_other >= c.d_min) points->push_back(p);
     if (d_other < c.d_thresh || d_other >= c.band_width) return;
     bool own_nearest = true;
@@ -160,6 +163,12 @@ std::optional<Interval> SharedSpan(const std::vector<Eigen::Vector3d>& points_a,
     }
     if (t.empty()) return false;
     const size_t trim = std::min(t.size() / 2, static_cast<size_t>(c.end_trim_fraction * t.size()));
+    if (trim == 0) {  // the default: the extremes themselves, in one pass
+      const auto [lowest, highest] = std::minmax_element(t.begin(), t.end());
+      *low = *lowest;
+      *high = *highest;
+      return true;
+    }
     std::nth_element(t.begin(), t.begin() + trim, t.end());
     *low = t[trim];
     std::nth_element(t.begin(), t.end() - 1 - trim, t.end());

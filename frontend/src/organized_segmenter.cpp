@@ -1,7 +1,6 @@
 #include "planemap/frontend/organized_segmenter.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numeric>
 #include <queue>
@@ -50,6 +49,20 @@ struct Region {
   QuickFit fit;
   int cells = 0;
 };
+
+// Weighted sums of a plane's points: w, x, y, z, xx, xy, xz, yy, yz, zz (an array, so they are
+// added pairwise in vector registers).
+using WeightedSums = Eigen::Array<double, 10, 1>;
+
+// The moments of `n` points from their weighted sums.
+PointMoments MomentsOf(const WeightedSums& s, double n) {
+  PointMoments m;
+  m.n = n;
+  m.w = s[0];
+  m.sum = Eigen::Vector3d(s[1], s[2], s[3]);
+  m.sum_outer << s[4], s[5], s[6], s[5], s[7], s[8], s[6], s[8], s[9];
+  return m;
+}
 
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -215,7 +228,7 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
 // (*inliers)[offset + r].
 void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, const Pass& pass,
                 const OrganizedSegmenterConfig& c, size_t offset, std::vector<std::vector<int>>* inliers,
-                std::vector<std::array<double, 10>>* sums, std::vector<double>* fit_count,
+                std::vector<WeightedSums>* sums, std::vector<double>* fit_count,
                 std::vector<Box3>* bounds, std::vector<std::uint8_t>* ambiguous) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   const int cs = pass.cs, cw = pass.cw, ch = pass.ch;
@@ -255,7 +268,7 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
   // The region the last pixels went to: its sums, count and box are kept here, in registers,
   // while pixels go on joining it (the same additions in the same order as into its entry).
   int current = -1;
-  std::array<double, 10> s{};
+  WeightedSums s = WeightedSums::Zero();
   double count_held = 0.0;
   Eigen::Vector3d low, high;
   auto hold = [&](int region) {
@@ -311,9 +324,8 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
           (*ambiguous)[v * w + u] = 1;
           continue;
         }
-        const double wt = DepthNoiseWeight(z);
-        s[0] += wt; s[1] += wt * x; s[2] += wt * y; s[3] += wt * z;
-        s[4] += wt * x * x; s[5] += wt * x * y; s[6] += wt * x * z; s[7] += wt * y * y; s[8] += wt * y * z; s[9] += wt * z * z;
+        const double wt = DepthNoiseWeight(z), wx = wt * x, wy = wt * y, wz = wt * z;
+        s += (WeightedSums() << wt, wx, wy, wz, wx * x, wx * y, wx * z, wy * y, wy * z, wz * z).finished();
         count_held += 1;
       }
     }
@@ -636,7 +648,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
   // Two passes: cells of cell_size, then cells half as large over the pixels the first left
   // (small faces: thin panels, a box top seen at a grazing angle).
   std::vector<std::vector<int>> inliers;
-  std::vector<std::array<double, 10>> sums;  // weighted w, x, y, z, xx, xy, xz, yy, yz, zz
+  std::vector<WeightedSums> sums;
   std::vector<double> fit_count;
   std::vector<Box3> bounds;  // of each region's inliers
   std::vector<std::uint8_t> ambiguous(cloud.size(), 0);  // close to two planes: pulls on no refit
@@ -644,7 +656,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     const Pass pass = GrowPass(cloud, usable, cell_size, cell_size == c.cell_size, c);
     const size_t offset = inliers.size();
     inliers.resize(offset + pass.regions.size());
-    sums.resize(inliers.size(), std::array<double, 10>{});
+    sums.resize(inliers.size(), WeightedSums::Zero());
     fit_count.resize(inliers.size(), 0.0);
     bounds.resize(inliers.size());
     AssignPass(cloud, usable, pass, c, offset, &inliers, &sums, &fit_count, &bounds, &ambiguous);
@@ -657,11 +669,7 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
   if (c.leftover_hypotheses > 0) leftover = LeftoverPlanes(cloud, usable, c, config_.min_inliers);
   std::vector<PointMoments> fit_moments(inliers.size());
   for (size_t r = 0; r < inliers.size(); ++r) {
-    const auto& s = sums[r];
-    fit_moments[r].n = fit_count[r];
-    fit_moments[r].w = s[0];
-    fit_moments[r].sum = Eigen::Vector3d(s[1], s[2], s[3]);
-    fit_moments[r].sum_outer << s[4], s[5], s[6], s[5], s[7], s[8], s[6], s[8], s[9];
+    fit_moments[r] = MomentsOf(sums[r], fit_count[r]);
   }
 
   StripsTakeBack(cloud, c, ambiguous, config_.min_inliers, &inliers, &fit_moments, &bounds, &leftover);
