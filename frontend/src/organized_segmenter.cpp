@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <iterator>
 #include <numeric>
 #include <queue>
 #include <limits>
@@ -412,10 +414,12 @@ std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vec
   return kept;
 }
 
-// The pixels reached from `seed` on a w x h grid through 4 neighbours (8 if `diagonal`) that
-// `joins(from, to)` takes (it marks them); the seed is taken by the caller.
+// The pixels reached from `seed` on the cloud's grid through 4 neighbours (8 if `diagonal`) that
+// `joins(from, to)` takes (it marks them); the seed is taken by the caller. A neighbour without
+// depth is looked past, up to `bridge` pixels on in the same direction.
 template <class Joins>
-std::vector<int> Flood(int seed, int w, int h, bool diagonal, std::vector<int>* stack, Joins joins) {
+std::vector<int> Flood(int seed, const Cloud& cloud, bool diagonal, int bridge, std::vector<int>* stack, Joins joins) {
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   std::vector<int> reached;
   stack->assign(1, seed);
   while (!stack->empty()) {
@@ -426,9 +430,15 @@ std::vector<int> Flood(int seed, int w, int h, bool diagonal, std::vector<int>* 
     for (int dv = -1; dv <= 1; ++dv) {
       for (int du = -1; du <= 1; ++du) {
         if ((du == 0 && dv == 0) || (!diagonal && du != 0 && dv != 0)) continue;
-        const int uu = u + du, vv = v + dv;
-        if (uu < 0 || uu >= w || vv < 0 || vv >= h) continue;
-        if (joins(i, vv * w + uu)) stack->push_back(vv * w + uu);
+        // The neighbour that way; past up to `bridge` pixels without depth.
+        for (int step = 1; step <= bridge + 1; ++step) {
+          const int uu = u + step * du, vv = v + step * dv;
+          if (uu < 0 || uu >= w || vv < 0 || vv >= h) break;
+          const int j = vv * w + uu;
+          if (step <= bridge && !IsValidPoint(cloud[j])) continue;
+          if (joins(i, j)) stack->push_back(j);
+          break;
+        }
       }
     }
   }
@@ -437,13 +447,14 @@ std::vector<int> Flood(int seed, int w, int h, bool diagonal, std::vector<int>* 
 
 // Step 4b: planes among the pixels no plane took, where no cell fits (a box's side seen as a
 // strip 10-18 px wide running diagonally across the image). The free pixels are split into parts
-// connected on the image grid without a depth jump; in each part of min_inliers pixels or more,
+// connected on the image grid (across up to `bridge` pixels without depth) without a depth
+// jump; in each part of min_inliers pixels or more,
 // sample consensus (leftover_hypotheses planes through 3 of its pixels, MSAC's truncated loss at
 // half the inlier distance, the best refitted by least squares on the pixels it holds) finds the
 // plane most of them lie on, whose pixels within the inlier distance make a plane if they are
-// min_inliers or more and connected; then again on the part's remaining pixels.
+// min_inliers or more and connected (as the parts are); then again on the part's remaining pixels.
 std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vector<std::uint8_t>& usable,
-                                             const OrganizedSegmenterConfig& c, int min_inliers) {
+                                             const OrganizedSegmenterConfig& c, int min_inliers, int bridge) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   const auto limit = [&](const pcl::PointXYZRGB& p) { return InlierDistance(c, p.z); };
   std::vector<std::uint8_t> in_part(usable.size(), 0);  // taken by a part already
@@ -452,9 +463,14 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
   std::vector<int> stack;
   std::mt19937 random(static_cast<std::uint32_t>(c.robust_seed));
   for (int start = 0; start < w * h; ++start) {
+    // Most pixels are taken: skip them 8 at a time.
+    for (std::uint64_t eight = 0; start + 8 <= w * h; start += 8) {
+      std::memcpy(&eight, &usable[start], 8);
+      if (eight != 0) break;
+    }
     if (!usable[start] || in_part[start]) continue;
     in_part[start] = 1;
-    std::vector<int> part = Flood(start, w, h, false, &stack, [&](int i, int j) {
+    std::vector<int> part = Flood(start, cloud, false, bridge, &stack, [&](int i, int j) {
       if (!usable[j] || in_part[j] || std::abs(cloud[j].z - cloud[i].z) > static_cast<float>(c.cell_jump_relative) * cloud[i].z) {
         return false;
       }
@@ -496,7 +512,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
       for (int seed : on) {
         if (in_plane[seed] != 1) continue;
         in_plane[seed] = 2;
-        std::vector<int> piece = Flood(seed, w, h, true, &stack, [&](int, int j) {
+        std::vector<int> piece = Flood(seed, cloud, true, bridge, &stack, [&](int, int j) {
           if (in_plane[j] != 1) return false;
           in_plane[j] = 2;
           return true;
@@ -666,13 +682,24 @@ SegmentationResult OrganizedSegmenter::Segment(const Cloud& cloud) const {
     }
   }
   std::vector<std::vector<int>> leftover;
-  if (c.leftover_hypotheses > 0) leftover = LeftoverPlanes(cloud, usable, c, config_.min_inliers);
+  if (c.leftover_hypotheses > 0) leftover = LeftoverPlanes(cloud, usable, c, config_.min_inliers, 0);
+  // Then on the pixels still free, parts joined across pixels without depth (a narrow face cut
+  // by dropouts into pieces each too small). Those strips take no pixels back (below): letting
+  // them took the TUM fr1_rpy slice's tracking ATE from 35.8 to 75.0 mm.
+  std::vector<std::vector<int>> bridged;
+  if (c.leftover_hypotheses > 0 && c.leftover_bridge_px > 0) {
+    for (const std::vector<int>& strip : leftover) {
+      for (int i : strip) usable[i] = 0;
+    }
+    bridged = LeftoverPlanes(cloud, usable, c, config_.min_inliers, c.leftover_bridge_px);
+  }
   std::vector<PointMoments> fit_moments(inliers.size());
   for (size_t r = 0; r < inliers.size(); ++r) {
     fit_moments[r] = MomentsOf(sums[r], fit_count[r]);
   }
 
   StripsTakeBack(cloud, c, ambiguous, config_.min_inliers, &inliers, &fit_moments, &bounds, &leftover);
+  leftover.insert(leftover.end(), std::make_move_iterator(bridged.begin()), std::make_move_iterator(bridged.end()));
 
   // 5. Least-squares refit on each plane's unambiguous inliers.
   std::vector<DetectedPlane> planes;

@@ -49,6 +49,11 @@ struct OrganizedSegmenterConfig {
   // diagonally): connected parts of min_inliers or more are searched for planes by sample
   // consensus with this many hypotheses (seeded by robust_seed); 0: off.
   int leftover_hypotheses = 50;
+  // Then again on the pixels still free, with parts and the planes found in them connected
+  // across up to this many pixels without depth (a narrow side's pixels split by bands of
+  // dropouts: learn13's front box's left side, in parts of 346 and 310 pixels 4 px apart, each
+  // under min_inliers); these strips take no pixels back (below) [px]; 0: no second search.
+  int leftover_bridge_px = 6;
   // A strip takes back the pixels beside it that lie on it (within half the inlier distance)
   // rather than on the plane that took them (off it by half the inlier distance or more), from
   // planes nearer than robust_min_depth and at least strip_take_back_min_angle_deg from parallel
@@ -77,6 +82,7 @@ struct OrganizedSegmenterConfig {
     v("robust_hypotheses", robust_hypotheses, Check::kPositive);
     v("robust_seed", robust_seed, Check::kNonNegative);
     v("leftover_hypotheses", leftover_hypotheses, Check::kNonNegative);
+    v("leftover_bridge_px", leftover_bridge_px, Check::kNonNegative);
     v("strip_take_back_rounds", strip_take_back_rounds, Check::kNonNegative);
     v("strip_take_back_min_angle_deg", strip_take_back_min_angle_deg, Check::kNonNegative);
   }
