@@ -269,14 +269,17 @@ StripScene DiagonalStrip() {
   return scene;
 }
 
+// The first plane of `result` within 2 deg of `truth`, or null.
+const DetectedPlane* PlaneAlong(const SegmentationResult& result, const Plane& truth) {
+  for (const DetectedPlane& p : result.planes) {
+    if (NormalAngle(p.plane, truth) < 2.0 * M_PI / 180.0) return &p;
+  }
+  return nullptr;
+}
+
 TEST(PlaneSegmentation, OrganizedFindsAFaceSeenAsAThinDiagonalStrip) {
   const StripScene scene = DiagonalStrip();
-  auto strip_plane = [&](const SegmentationResult& result) -> const DetectedPlane* {
-    for (const DetectedPlane& p : result.planes) {
-      if (NormalAngle(p.plane, scene.strip_plane) < 2.0 * M_PI / 180.0) return &p;
-    }
-    return nullptr;
-  };
+  auto strip_plane = [&](const SegmentationResult& result) { return PlaneAlong(result, scene.strip_plane); };
   SegmenterConfig without;
   without.organized.leftover_hypotheses = 0;
   EXPECT_EQ(strip_plane(MakePlaneSegmenter(without)->Segment(scene.cloud)), nullptr) << "no cell fits in the strip";
@@ -311,12 +314,7 @@ TEST(PlaneSegmentation, OrganizedJoinsAStripsPiecesAcrossBandsWithoutDepth) {
     }
   }
   scene.strip = kept;
-  auto strip_plane = [&](const SegmentationResult& result) -> const DetectedPlane* {
-    for (const DetectedPlane& p : result.planes) {
-      if (NormalAngle(p.plane, scene.strip_plane) < 2.0 * M_PI / 180.0) return &p;
-    }
-    return nullptr;
-  };
+  auto strip_plane = [&](const SegmentationResult& result) { return PlaneAlong(result, scene.strip_plane); };
   SegmenterConfig unbridged;
   unbridged.organized.leftover_bridge_px = 3;  // the bands are 4 px high
   EXPECT_EQ(strip_plane(MakePlaneSegmenter(unbridged)->Segment(scene.cloud)), nullptr) << "each piece is too small";
