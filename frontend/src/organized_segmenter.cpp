@@ -468,6 +468,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
       std::memcpy(&eight, &usable[start], 8);
       if (eight != 0) break;
     }
+    if (start == w * h) break;  // all taken to the end
     if (!usable[start] || in_part[start]) continue;
     in_part[start] = 1;
     std::vector<int> part = Flood(start, cloud, false, bridge, &stack, [&](int i, int j) {
