@@ -25,10 +25,17 @@ struct Window {
 template <typename Fn>
 void ForInliersIn(const DetectedPlane& plane, const Window& window, const Cloud& cloud, Fn&& fn) {
   const int w = static_cast<int>(cloud.width);
-  auto it = plane.inliers.begin();
-  for (int v = window.v0; v <= window.v1 && it != plane.inliers.end(); ++v) {
-    it = std::lower_bound(it, plane.inliers.end(), v * w + window.u0);
-    for (const int end = v * w + window.u1; it != plane.inliers.end() && *it <= end; ++it) fn(PointAt(cloud, *it));
+  // Raw pointers in locals: fn appends to vectors, which as far as the compiler knows might
+  // hold the inliers' or the cloud's bounds, and would have them read again for every point.
+  const int* it = plane.inliers.data();
+  const int* const last = it + plane.inliers.size();
+  const pcl::PointXYZRGB* const points = cloud.points.data();
+  for (int v = window.v0; v <= window.v1 && it != last; ++v) {
+    it = std::lower_bound(it, last, v * w + window.u0);
+    for (const int end = v * w + window.u1; it != last && *it <= end; ++it) {
+      const pcl::PointXYZRGB& p = points[*it];
+      fn(Eigen::Vector3d(p.x, p.y, p.z));
+    }
   }
 }
 
@@ -56,15 +63,17 @@ void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other,
   const size_t first = band->size();
   // Copies the loop can keep in registers (the vectors it appends to might alias the originals).
   const Plane own_plane = own.plane, other_plane = other.plane;
-  const double far = std::max(c.d_thresh, c.band_width);
+  const double d_thresh = c.d_thresh, d_min = c.d_min, band_width = c.band_width;
+  const bool band_on_plane = c.band_on_plane;
+  const double far = std::max(d_thresh, band_width);
   ForInliersIn(own, window, cloud, [&](const Eigen::Vector3d& p) {
     const double d_other = std::abs(other_plane.SignedDistance(p));  // eq. (3) / (5)
     if (d_other >= far) return;                                      // most of the window: far from the edge
     const double d_own = std::abs(own_plane.SignedDistance(p));      // eq. (2) / (4)
-    if (d_own < c.d_thresh && d_other < c.d_thresh && d_own >= c.d_min && d_other >= c.d_min) points->push_back(p);
-    if (d_other < c.d_thresh || d_other >= c.band_width) return;
+    if (d_own < d_thresh && d_other < d_thresh && d_own >= d_min && d_other >= d_min) points->push_back(p);
+    if (d_other < d_thresh || d_other >= band_width) return;
     bool own_nearest = true;
-    for (size_t k = 0; c.band_on_plane && own_nearest && k < nearby.size(); ++k) {
+    for (size_t k = 0; band_on_plane && own_nearest && k < nearby.size(); ++k) {
       own_nearest = nearby[k] == &own || std::abs(nearby[k]->plane.SignedDistance(p)) >= d_own;
     }
     band->push_back(p);

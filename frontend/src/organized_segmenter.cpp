@@ -82,8 +82,8 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
               const OrganizedSegmenterConfig& c) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height), cs = cell_size;
   const int cw = (w + cs - 1) / cs, ch = (h + cs - 1) / cs;
-  auto point = [&](int u, int v) -> const pcl::PointXYZRGB& { return cloud.points[static_cast<size_t>(v) * w + u]; };
-  auto ok = [&](int u, int v) { return usable[static_cast<size_t>(v) * w + u] != 0; };
+  const pcl::PointXYZRGB* const points = cloud.points.data();
+  const float jump_relative = static_cast<float>(c.cell_jump_relative);
   Pass pass;
   pass.cs = cs;
   pass.cw = cw;
@@ -110,19 +110,23 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
       const int u0 = cx * cs, v0 = cy * cs, u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
       if (usable_count[static_cast<size_t>(cy) * cw + cx] < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0)) continue;
       bool jump = false;
-      // Plain sums of the cell's points (the hot loop of the segmenter), then moments.
+      // Plain sums of the cell's points (the hot loop of the segmenter), then moments. Row
+      // pointers and the jump factor in locals keep the ten sums in registers.
       double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
       for (int v = v0; v < v1; ++v) {
+        const pcl::PointXYZRGB* row = points + static_cast<size_t>(v) * w;
+        const std::uint8_t* use = usable.data() + static_cast<size_t>(v) * w;
+        const bool has_below = v + 1 < v1;
         for (int u = u0; u < u1; ++u) {
-          if (!ok(u, v)) continue;
-          const auto& p = point(u, v);
-          const double x = p.x, y = p.y, z = p.z;
+          if (!use[u]) continue;
+          const float pz = row[u].z;
+          const double x = row[u].x, y = row[u].y, z = pz;
           n += 1;
           sx += x; sy += y; sz += z;
           sxx += x * x; sxy += x * y; sxz += x * z; syy += y * y; syz += y * z; szz += z * z;
-          const float limit = static_cast<float>(c.cell_jump_relative) * p.z;
-          if (u + 1 < u1 && ok(u + 1, v) && std::abs(point(u + 1, v).z - p.z) > limit) jump = true;
-          if (v + 1 < v1 && ok(u, v + 1) && std::abs(point(u, v + 1).z - p.z) > limit) jump = true;
+          const float limit = jump_relative * pz;
+          if (u + 1 < u1 && use[u + 1] && std::abs(row[u + 1].z - pz) > limit) jump = true;
+          if (has_below && use[u + w] && std::abs(row[u + w].z - pz) > limit) jump = true;
         }
       }
       cell.moments.n = cell.moments.w = n;
@@ -287,6 +291,9 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
     low = (*bounds)[offset + current].low;
     high = (*bounds)[offset + current].high;
   };
+  // In locals: the inlier lists' growth writes memory the config might be in, as far as the
+  // compiler knows, and would have them read again for every pixel.
+  const double inlier_base = c.inlier_distance_base, inlier_quadratic = c.inlier_distance_quadratic;
   for (int v = 0; v < h; ++v) {
     const int cell_row = (v / cs) * cw;
     const std::uint8_t* usable_row = &usable[static_cast<size_t>(v) * w];
@@ -299,7 +306,7 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
         if (!usable_row[u]) continue;
         const pcl::PointXYZRGB& p = point_row[u];
         const double x = p.x, y = p.y, z = p.z;
-        const double limit = GrowsWithDepth(c.inlier_distance_base, c.inlier_distance_quadratic, z);
+        const double limit = GrowsWithDepth(inlier_base, inlier_quadratic, z);
         double best = limit;
         int best_region = -1, close_planes = 0;
         if (count == 1) {  // most cells: one plane around them (the loop's test, unrolled)
