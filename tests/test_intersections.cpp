@@ -1,7 +1,10 @@
 // Step 3 of the frontend: real intersections (eqs. 2-6) against the box's true edges.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -134,6 +137,28 @@ TEST(Intersections, AlongRayOntoPlaneKeepsThePixel) {
   const Plane side{Eigen::Vector3d(-1.0, 0.0, 0.0), 0.5};  // x = 0.5
   EXPECT_EQ(AlongRayOntoPlane(side, Eigen::Vector3d(0.0, 0.1, 2.0)), Eigen::Vector3d(0.0, 0.1, 2.0));
   EXPECT_EQ(AlongRayOntoPlane(side, Eigen::Vector3d(-0.2, 0.1, 2.0)), Eigen::Vector3d(-0.2, 0.1, 2.0));
+}
+
+// AlongRayOntoPlane decides most rays without |p|'s square root; it must agree with
+// Plane::IntersectRay exactly, also for rays at and around its parallel bound.
+TEST(Intersections, AlongRayOntoPlaneIsTheRayIntersection) {
+  auto reference = [](const Plane& plane, const Eigen::Vector3d& p) {
+    const std::optional<double> scale = plane.IntersectRay(Eigen::Vector3d::Zero(), p, 1e-12 * std::max(1.0, p.norm()));
+    return scale && *scale > 0.0 ? Eigen::Vector3d(*scale * p) : p;
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int k = 0; k < 20000; ++k) {
+    const Plane plane{Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized(), 3.0 * unit(rng)};
+    Eigen::Vector3d p = Eigen::Vector3d(unit(rng), unit(rng), 0.2 + std::abs(unit(rng))) * (k % 3 == 0 ? 50.0 : 2.0);
+    if (k % 2 == 0) {
+      // Tilt p toward the plane's direction until n . p is a chosen multiple of 1e-12 |p|.
+      const double target = std::ldexp(1.0, k % 8 - 4) * 1e-12 * p.norm();
+      p += (target - plane.normal.dot(p)) * plane.normal;
+    }
+    ASSERT_EQ(AlongRayOntoPlane(plane, p), reference(plane, p)) << "plane " << plane.normal.transpose() << " "
+                                                                 << plane.offset << ", point " << p.transpose();
+  }
 }
 
 TEST(Intersections, SilhouetteEndsAreNotBeyondTheFace) {
