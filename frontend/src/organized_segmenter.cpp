@@ -12,6 +12,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "cell_sums.h"
+
 namespace planemap {
 namespace {
 
@@ -119,30 +121,12 @@ Pass GrowPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, int c
       Cell& cell = cells[static_cast<size_t>(cy) * cw + cx];
       const int u0 = cx * cs, v0 = cy * cs, u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
       if (usable_count[static_cast<size_t>(cy) * cw + cx] < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0)) continue;
-      bool jump = false;
-      // Plain sums of the cell's points (the hot loop of the segmenter), then moments. Row
-      // pointers and the jump factor in locals keep the ten sums in registers.
-      double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
-      for (int v = v0; v < v1; ++v) {
-        const pcl::PointXYZRGB* row = points + static_cast<size_t>(v) * w;
-        const std::uint8_t* use = usable.data() + static_cast<size_t>(v) * w;
-        const bool has_below = v + 1 < v1;
-        for (int u = u0; u < u1; ++u) {
-          if (!use[u]) continue;
-          const float pz = row[u].z;
-          const double x = row[u].x, y = row[u].y, z = pz;
-          n += 1;
-          sx += x; sy += y; sz += z;
-          sxx += x * x; sxy += x * y; sxz += x * z; syy += y * y; syz += y * z; szz += z * z;
-          const float limit = jump_relative * pz;
-          if (u + 1 < u1 && use[u + 1] && std::abs(row[u + 1].z - pz) > limit) jump = true;
-          if (has_below && use[u + w] && std::abs(row[u + w].z - pz) > limit) jump = true;
-        }
-      }
-      cell.moments.n = cell.moments.w = n;
-      cell.moments.sum = Eigen::Vector3d(sx, sy, sz);
-      cell.moments.sum_outer << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
-      if (jump || cell.moments.n < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0) || cell.moments.n < 3) continue;
+      // Plain sums of the cell's points (the hot loop of the segmenter), then moments.
+      const CellSums sums = SumCell(points, usable.data(), w, u0, u1, v0, v1, jump_relative);
+      cell.moments.n = cell.moments.w = sums.n;
+      cell.moments.sum = Eigen::Vector3d(sums.sx, sums.sy, sums.sz);
+      cell.moments.sum_outer << sums.sxx, sums.sxy, sums.sxz, sums.sxy, sums.syy, sums.syz, sums.sxz, sums.syz, sums.szz;
+      if (sums.jump || cell.moments.n < c.min_cell_valid_fraction * (u1 - u0) * (v1 - v0) || cell.moments.n < 3) continue;
       cell.fit = Fit(cell.moments);
       const double z = cell.fit.centroid.z();
       cell.planar = std::sqrt(cell.fit.mse) < GrowsWithDepth(c.cell_max_rms_base, c.cell_max_rms_quadratic, z);
@@ -432,18 +416,22 @@ std::optional<std::vector<int>> RobustInliers(const Cloud& cloud, const std::vec
 }
 
 // The pixels reached from `seed` on the cloud's grid through 4 neighbours (8 if `diagonal`) that
-// `joins(from, to)` takes (it marks them); the seed is taken by the caller. A neighbour without
-// depth is looked past, up to `bridge` pixels on in the same direction.
+// `joins(from, to)` takes (it marks them), into *reached; the seed is taken by the caller. A
+// neighbour without depth is looked past, up to `bridge` pixels on in the same direction. The
+// stack holds each pixel's column and row: no division per pixel to find them.
 template <class Joins>
-std::vector<int> Flood(int seed, const Cloud& cloud, bool diagonal, int bridge, std::vector<int>* stack, Joins joins) {
+void Flood(int seed, const Cloud& cloud, bool diagonal, int bridge, std::vector<int>* stack, std::vector<int>* reached,
+           Joins joins) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
-  std::vector<int> reached;
-  stack->assign(1, seed);
+  reached->clear();
+  stack->assign({seed % w, seed / w});
   while (!stack->empty()) {
-    const int i = stack->back();
+    const int v = stack->back();
     stack->pop_back();
-    reached.push_back(i);
-    const int u = i % w, v = i / w;
+    const int u = stack->back();
+    stack->pop_back();
+    const int i = v * w + u;
+    reached->push_back(i);
     for (int dv = -1; dv <= 1; ++dv) {
       for (int du = -1; du <= 1; ++du) {
         if ((du == 0 && dv == 0) || (!diagonal && du != 0 && dv != 0)) continue;
@@ -453,13 +441,15 @@ std::vector<int> Flood(int seed, const Cloud& cloud, bool diagonal, int bridge, 
           if (uu < 0 || uu >= w || vv < 0 || vv >= h) break;
           const int j = vv * w + uu;
           if (step <= bridge && !IsValidPoint(cloud[j])) continue;
-          if (joins(i, j)) stack->push_back(j);
+          if (joins(i, j)) {
+            stack->push_back(uu);
+            stack->push_back(vv);
+          }
           break;
         }
       }
     }
   }
-  return reached;
 }
 
 // Step 4b: planes among the pixels no plane took, where no cell fits (a box's side seen as a
@@ -477,7 +467,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
   std::vector<std::uint8_t> in_part(usable.size(), 0);  // taken by a part already
   std::vector<std::uint8_t> in_plane(usable.size(), 0);  // 1: on the plane being split, 2: visited
   std::vector<std::vector<int>> found;
-  std::vector<int> stack;
+  std::vector<int> stack, part;  // part: its memory kept from part to part
   std::mt19937 random(static_cast<std::uint32_t>(c.robust_seed));
   for (int start = 0; start < w * h; ++start) {
     // Most pixels are taken: skip them 8 at a time.
@@ -488,13 +478,14 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
     if (start == w * h) break;  // all taken to the end
     if (!usable[start] || in_part[start]) continue;
     in_part[start] = 1;
-    std::vector<int> part = Flood(start, cloud, false, bridge, &stack, [&](int i, int j) {
+    Flood(start, cloud, false, bridge, &stack, &part, [&](int i, int j) {
       if (!usable[j] || in_part[j] || std::abs(cloud[j].z - cloud[i].z) > static_cast<float>(c.cell_jump_relative) * cloud[i].z) {
         return false;
       }
       in_part[j] = 1;
       return true;
     });
+    if (static_cast<int>(part.size()) < min_inliers) continue;  // most parts: a few pixels
     std::sort(part.begin(), part.end());  // row order: the samples do not hang on the fill's order
     while (static_cast<int>(part.size()) >= min_inliers) {
       const size_t stride = std::max<size_t>(1, part.size() / 250);
@@ -530,7 +521,8 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
       for (int seed : on) {
         if (in_plane[seed] != 1) continue;
         in_plane[seed] = 2;
-        std::vector<int> piece = Flood(seed, cloud, true, bridge, &stack, [&](int, int j) {
+        std::vector<int> piece;
+        Flood(seed, cloud, true, bridge, &stack, &piece, [&](int, int j) {
           if (in_plane[j] != 1) return false;
           in_plane[j] = 2;
           return true;
