@@ -1,7 +1,9 @@
 // Step 2 of the frontend: both segmenters on rendered frames with the full noise model, against
 // the true planes of the labelled surfaces.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <random>
@@ -13,6 +15,7 @@
 #include "planemap/frontend/plane_segmenter.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
+#include "../frontend/src/cell_sums.h"  // internal: the segmenter's cell sums, both ways
 #include "sim_views.h"
 #include "test_support.h"
 #include "tracked_walk.h"
@@ -455,6 +458,53 @@ TEST(PlaneSegmentation, OrganizedKeepsANearBoardSideApartFromItsFrontEdge) {
   SegmenterConfig far_only;
   far_only.organized.robust_min_depth = 2.5;  // the check as it was: only for planes 2.5 m away or farther
   EXPECT_GT(MixedPlanes(far_only, "configs/scenes/office.yaml", poses, 1, &off_share, &normal_sigmas), 0);
+}
+
+// The segmenter's cell sums with AVX2 are the scalar loop's doubles, bit for bit (the frames'
+// planes do not depend on the processor): on a noisy tilted surface with depth steps, missing
+// depth and pixels taken by other planes, over cells of both passes' sizes and cells cut by the
+// image border.
+TEST(PlaneSegmentation, CellSumsWithAvx2AreTheScalarSums) {
+  if (!SumCellHasAvx2()) GTEST_SKIP() << "this processor has no AVX2";
+  const int w = 101, h = 77;
+  std::vector<pcl::PointXYZRGB> points(static_cast<size_t>(w) * h);
+  std::vector<std::uint8_t> usable(points.size());
+  std::mt19937 random(7);
+  std::normal_distribution<float> noise(0.0f, 0.004f);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      pcl::PointXYZRGB& p = points[static_cast<size_t>(v) * w + u];
+      const float z = 0.8f + 0.01f * u + 0.004f * v + ((u / 13 + v / 11) % 3 == 0 ? 0.2f : 0.0f) + noise(random);
+      p.x = (u - 50.0f) / 525.0f * z, p.y = (v - 38.0f) / 525.0f * z, p.z = z;
+      p.data[3] = unit(random);  // PCL's padding, whatever it holds, is not summed
+      const float draw = unit(random);
+      if (draw < 0.05f) p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
+      usable[static_cast<size_t>(v) * w + u] = std::isfinite(p.z) && draw > 0.15f;
+    }
+  }
+  int cells = 0, jumps = 0;
+  for (const int cs : {16, 8, 5}) {
+    for (int v0 = 0; v0 < h; v0 += cs) {
+      for (int u0 = 0; u0 < w; u0 += cs) {
+        const int u1 = std::min(w, u0 + cs), v1 = std::min(h, v0 + cs);
+        const CellSums a = SumCellScalar(points.data(), usable.data(), w, u0, u1, v0, v1, 0.05f);
+        const CellSums b = SumCellAvx2(points.data(), usable.data(), w, u0, u1, v0, v1, 0.05f);
+        const std::vector<double> sa{a.n, a.sx, a.sy, a.sz, a.sxx, a.sxy, a.sxz, a.syy, a.syz, a.szz};
+        const std::vector<double> sb{b.n, b.sx, b.sy, b.sz, b.sxx, b.sxy, b.sxz, b.syy, b.syz, b.szz};
+        for (size_t k = 0; k < sa.size(); ++k) {
+          ASSERT_EQ(std::memcmp(&sa[k], &sb[k], sizeof(double)), 0)
+              << "sum " << k << " of the " << cs << "-pixel cell at (" << u0 << ", " << v0 << "): " << sa[k] << " vs " << sb[k];
+        }
+        ASSERT_EQ(a.jump, b.jump) << "cell at (" << u0 << ", " << v0 << ")";
+        ++cells;
+        jumps += a.jump;
+      }
+    }
+  }
+  // Both kinds of cell were compared: with a depth jump inside, and without.
+  EXPECT_GT(jumps, 0);
+  EXPECT_LT(jumps, cells);
 }
 
 }  // namespace
