@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -15,6 +16,7 @@
 #include "planemap/frontend/plane_segmenter.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
+#include "../frontend/src/assign_pixels.h"  // internal: the segmenter's step 4, both ways
 #include "../frontend/src/cell_sums.h"  // internal: the segmenter's cell sums, both ways
 #include "sim_views.h"
 #include "test_support.h"
@@ -505,6 +507,100 @@ TEST(PlaneSegmentation, CellSumsWithAvx2AreTheScalarSums) {
   // Both kinds of cell were compared: with a depth jump inside, and without.
   EXPECT_GT(jumps, 0);
   EXPECT_LT(jumps, cells);
+}
+
+// Step 4's pixel loop with AVX2 gives the scalar loop's result bit for bit: the same inliers in
+// the same order, the same weighted sums, counts and boxes, the same ambiguous pixels. Three
+// tilted planes side by side with depth noise and outliers, missing depth, pixels already taken,
+// cells with none, one or two candidate planes, on cells of both passes' sizes and cells cut by
+// the image border.
+TEST(PlaneSegmentation, AssignedPixelsWithAvx2AreTheScalarLoops) {
+  if (!AssignPixelsHasAvx2()) GTEST_SKIP() << "this processor has no AVX2";
+  const int w = 101, h = 77;
+  const double f = 80.0;
+  const std::vector<Plane> planes = {Plane{Eigen::Vector3d(0.3, 0.1, -1.0).normalized(), 0.0},
+                                     Plane{Eigen::Vector3d(-0.2, 0.4, -1.0).normalized(), 0.0},
+                                     Plane{Eigen::Vector3d(0.0, -0.1, -1.0).normalized(), 0.0}};
+  std::vector<Plane> placed = planes;
+  for (size_t k = 0; k < placed.size(); ++k) placed[k].offset = 1.0 + 0.4 * static_cast<double>(k);  // -n.p at p = (0, 0, ~1-2 m)
+  auto plane_of_column = [&](int u) { return std::min(2, u * 3 / w); };
+  std::vector<pcl::PointXYZRGB> points(static_cast<size_t>(w) * h);
+  std::vector<std::uint8_t> usable(points.size());
+  std::mt19937 random(11);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const Plane& plane = placed[plane_of_column(u)];
+      const Eigen::Vector3d ray((u - 50.0) / f, (v - 38.0) / f, 1.0);
+      Eigen::Vector3d p = (-plane.offset / plane.normal.dot(ray)) * ray;
+      p += (unit(random) < 0.05 ? 0.05 : noise(random)) * plane.normal;  // some outliers
+      pcl::PointXYZRGB& q = points[static_cast<size_t>(v) * w + u];
+      q.x = static_cast<float>(p.x()), q.y = static_cast<float>(p.y()), q.z = static_cast<float>(p.z());
+      const double draw = unit(random);
+      if (draw < 0.03) q.x = q.y = q.z = std::numeric_limits<float>::quiet_NaN();
+      usable[static_cast<size_t>(v) * w + u] = std::isfinite(q.z) && draw > 0.06;
+    }
+  }
+  for (const int cs : {16, 8, 5}) {
+    const int cw = (w + cs - 1) / cs, ch = (h + cs - 1) / cs;
+    // Each cell's candidates: the planes of its first and last columns; none in every seventh.
+    std::vector<AssignCandidate> candidates;
+    std::vector<int> first;
+    for (int cy = 0; cy < ch; ++cy) {
+      for (int cx = 0; cx < cw; ++cx) {
+        first.push_back(static_cast<int>(candidates.size()));
+        if ((cy * cw + cx) % 7 == 3) continue;
+        const int a = plane_of_column(cx * cs), b = plane_of_column(std::min(w, cx * cs + cs) - 1);
+        for (const int r : a == b ? std::vector<int>{a} : std::vector<int>{b, a}) {
+          const Plane& plane = placed[r];
+          candidates.push_back({plane.normal.x(), plane.normal.y(), plane.normal.z(), plane.offset, r});
+        }
+      }
+    }
+    first.push_back(static_cast<int>(candidates.size()));
+    AssignGrid grid;
+    grid.points = points.data();
+    grid.usable = usable.data();
+    grid.w = w, grid.h = h, grid.cs = cs, grid.cw = cw;
+    grid.candidates = candidates.data();
+    grid.first = first.data();
+    grid.inlier_base = 0.005, grid.inlier_quadratic = 0.005;
+    struct Result {
+      std::vector<std::vector<int>> inliers = std::vector<std::vector<int>>(3);
+      std::vector<WeightedSums> sums = std::vector<WeightedSums>(3, WeightedSums::Zero());
+      std::vector<double> count = std::vector<double>(3, 0.0);
+      std::vector<Box3> bounds = std::vector<Box3>(3);
+      std::vector<std::uint8_t> ambiguous;
+    };
+    auto run = [&](void (*assign)(const AssignGrid&, const AssignOutput&)) {
+      Result result;
+      result.ambiguous.assign(points.size(), 0);
+      AssignOutput out;
+      out.inliers = result.inliers.data();
+      out.sums = result.sums.data();
+      out.count = result.count.data();
+      out.bounds = result.bounds.data();
+      out.ambiguous = result.ambiguous.data();
+      assign(grid, out);
+      return result;
+    };
+    const Result scalar = run(&AssignPixelsScalar), avx2 = run(&AssignPixelsAvx2);
+    int ambiguous = 0;
+    for (int r = 0; r < 3; ++r) {
+      SCOPED_TRACE("cells of " + std::to_string(cs) + " pixels, plane " + std::to_string(r));
+      ASSERT_EQ(scalar.inliers[r], avx2.inliers[r]);
+      EXPECT_GT(scalar.inliers[r].size(), 0.5 * w * h / 3 * 0.8);  // most of its third of the image
+      EXPECT_EQ(std::memcmp(scalar.sums[r].data(), avx2.sums[r].data(), sizeof(WeightedSums)), 0)
+          << scalar.sums[r].transpose() << "\n" << avx2.sums[r].transpose();
+      EXPECT_EQ(std::memcmp(&scalar.count[r], &avx2.count[r], sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(scalar.bounds[r].low.data(), avx2.bounds[r].low.data(), 3 * sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(scalar.bounds[r].high.data(), avx2.bounds[r].high.data(), 3 * sizeof(double)), 0);
+    }
+    EXPECT_EQ(scalar.ambiguous, avx2.ambiguous);
+    for (std::uint8_t a : scalar.ambiguous) ambiguous += a;
+    EXPECT_GT(ambiguous, 0);  // pixels near two planes were among them
+  }
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "assign_pixels.h"
 #include "cell_sums.h"
 
 namespace planemap {
@@ -53,10 +54,6 @@ struct Region {
   QuickFit fit;
   int cells = 0;
 };
-
-// Weighted sums of a plane's points: w, x, y, z, xx, xy, xz, yy, yz, zz (an array, so they are
-// added pairwise in vector registers).
-using WeightedSums = Eigen::Array<double, 10, 1>;
 
 // The moments of `n` points from their weighted sums.
 PointMoments MomentsOf(const WeightedSums& s, double n) {
@@ -236,11 +233,7 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
   const std::vector<Region>& merged = pass.regions;
   // Each cell's candidate planes side by side (cell i's are [first[i], first[i + 1])), so the
   // pixel loop reads them without going through the regions.
-  struct Candidate {
-    double nx, ny, nz, d;
-    int region;
-  };
-  std::vector<Candidate> candidates;
+  std::vector<AssignCandidate> candidates;
   std::vector<int> first(cells.size() + 1, 0);
   for (int cy = 0; cy < ch; ++cy) {
     for (int cx = 0; cx < cw; ++cx) {
@@ -253,7 +246,7 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
           const int r = cells[y * cw + x].region;
           if (r < 0) continue;
           const auto known = std::find_if(candidates.begin() + first[i], candidates.end(),
-                                          [r](const Candidate& k) { return k.region == r; });
+                                          [r](const AssignCandidate& k) { return k.region == r; });
           if (known != candidates.end()) continue;
           const QuickFit& f = merged[r].fit;
           candidates.push_back({f.normal.x(), f.normal.y(), f.normal.z(), f.offset, r});
@@ -265,75 +258,20 @@ void AssignPass(const Cloud& cloud, const std::vector<std::uint8_t>& usable, con
   // Room for as many inliers as a region's cells hold pixels (it takes most of them, and more
   // from the cells around): spares the vector's doublings on the way there.
   for (size_t r = 0; r < merged.size(); ++r) (*inliers)[offset + r].reserve(static_cast<size_t>(merged[r].moments.n));
-  // The region the last pixels went to: its sums, count and box are kept here, in registers,
-  // while pixels go on joining it (the same additions in the same order as into its entry).
-  int current = -1;
-  WeightedSums s = WeightedSums::Zero();
-  double count_held = 0.0;
-  Eigen::Vector3d low, high;
-  auto hold = [&](int region) {
-    if (current >= 0) {
-      (*sums)[offset + current] = s;
-      (*fit_count)[offset + current] = count_held;
-      (*bounds)[offset + current].low = low;
-      (*bounds)[offset + current].high = high;
-    }
-    current = region;
-    if (current < 0) return;
-    s = (*sums)[offset + current];
-    count_held = (*fit_count)[offset + current];
-    low = (*bounds)[offset + current].low;
-    high = (*bounds)[offset + current].high;
-  };
-  // In locals: the inlier lists' growth writes memory the config might be in, as far as the
-  // compiler knows, and would have them read again for every pixel.
-  const double inlier_base = c.inlier_distance_base, inlier_quadratic = c.inlier_distance_quadratic;
-  for (int v = 0; v < h; ++v) {
-    const int cell_row = (v / cs) * cw;
-    const std::uint8_t* usable_row = &usable[static_cast<size_t>(v) * w];
-    const pcl::PointXYZRGB* point_row = &cloud.points[static_cast<size_t>(v) * w];
-    for (int cx = 0; cx < cw; ++cx) {
-      const Candidate* candidate = candidates.data() + first[cell_row + cx];
-      const int count = first[cell_row + cx + 1] - first[cell_row + cx];
-      if (count == 0) continue;
-      for (int u = cx * cs, u_end = std::min(w, u + cs); u < u_end; ++u) {
-        if (!usable_row[u]) continue;
-        const pcl::PointXYZRGB& p = point_row[u];
-        const double x = p.x, y = p.y, z = p.z;
-        const double limit = GrowsWithDepth(inlier_base, inlier_quadratic, z);
-        double best = limit;
-        int best_region = -1, close_planes = 0;
-        if (count == 1) {  // most cells: one plane around them (the loop's test, unrolled)
-          const Candidate& f = candidate[0];
-          if (std::abs(f.nx * x + f.ny * y + f.nz * z + f.d) < limit) best_region = f.region, close_planes = 1;
-        } else {
-          for (int k = 0; k < count; ++k) {
-            const Candidate& f = candidate[k];
-            const double distance = std::abs(f.nx * x + f.ny * y + f.nz * z + f.d);
-            if (distance < limit) ++close_planes;
-            if (distance < best) {
-              best = distance;
-              best_region = f.region;
-            }
-          }
-        }
-        if (best_region < 0) continue;
-        if (best_region != current) hold(best_region);
-        (*inliers)[offset + best_region].push_back(v * w + u);
-        const Eigen::Vector3d q(x, y, z);
-        low = low.cwiseMin(q);
-        high = high.cwiseMax(q);
-        if (close_planes > 1) {
-          (*ambiguous)[v * w + u] = 1;
-          continue;
-        }
-        const double wt = DepthNoiseWeight(z), wx = wt * x, wy = wt * y, wz = wt * z;
-        s += (WeightedSums() << wt, wx, wy, wz, wx * x, wx * y, wx * z, wy * y, wy * z, wz * z).finished();
-        count_held += 1;
-      }
-    }
-  }
-  hold(-1);
+  AssignGrid grid;
+  grid.points = cloud.points.data();
+  grid.usable = usable.data();
+  grid.w = w, grid.h = h, grid.cs = cs, grid.cw = cw;
+  grid.candidates = candidates.data();
+  grid.first = first.data();
+  grid.inlier_base = c.inlier_distance_base, grid.inlier_quadratic = c.inlier_distance_quadratic;
+  AssignOutput to;
+  to.inliers = inliers->data() + offset;
+  to.sums = sums->data() + offset;
+  to.count = fit_count->data() + offset;
+  to.bounds = bounds->data() + offset;
+  to.ambiguous = ambiguous->data();
+  AssignPixels(grid, to);
 }
 
 // A pixel's inlier distance at depth z [m].
