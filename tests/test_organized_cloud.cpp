@@ -1,6 +1,8 @@
 // Step 1 of the frontend: depth to an organized, coloured cloud.
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -69,6 +71,46 @@ TEST(OrganizedCloud, SizeMismatchIsAnError) {
   frame.depth = DepthImage(320, 240, 1.0f);
   EXPECT_TRUE(testing::ThrowsWith([&] { MakeOrganizedCloud(frame, XtionCamera(), CloudConfig{}); },
                                   {"frame 7", "320x240", "640x480"}));
+}
+
+// The cloud built with AVX2 is the scalar one bit for bit: coordinates, the fourth float, colour,
+// and the invalid pixels' NaN; on a frame whose width is not a multiple of four, with and without
+// colour, with every kind of invalid depth and depths exactly at the limits.
+TEST(OrganizedCloud, WithAvx2IsTheScalarCloud) {
+  if (!OrganizedCloudHasAvx2()) GTEST_SKIP() << "this processor has no AVX2";
+  CameraIntrinsics camera;
+  camera.width = 67, camera.height = 23, camera.fx = 81.3, camera.fy = 79.9, camera.cx = 33.2, camera.cy = 11.7;
+  const CloudConfig config;
+  RgbdFrame frame;
+  frame.depth = DepthImage(camera.width, camera.height, 0.0f);
+  frame.color = ColorImage(camera.width, camera.height, Rgb8{0, 0, 0});
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> depth(0.0f, 7.0f);
+  const float specials[] = {0.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                            -1.0f, static_cast<float>(config.min_depth), static_cast<float>(config.max_depth)};
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      const int k = static_cast<int>(random() % 10);
+      frame.depth.at(u, v) = k < 6 ? specials[k] : depth(random);
+      frame.color.at(u, v) = Rgb8{static_cast<std::uint8_t>(random()), static_cast<std::uint8_t>(random()),
+                                  static_cast<std::uint8_t>(random())};
+    }
+  }
+  for (const bool with_color : {true, false}) {
+    if (!with_color) frame.color = ColorImage();
+    const Cloud::Ptr scalar = MakeOrganizedCloud(frame, camera, config, false);
+    const Cloud::Ptr avx2 = MakeOrganizedCloud(frame, camera, config, true);
+    ASSERT_EQ(scalar->size(), avx2->size());
+    int valid = 0;
+    for (size_t i = 0; i < scalar->size(); ++i) {
+      const pcl::PointXYZRGB &a = (*scalar)[i], &b = (*avx2)[i];
+      ASSERT_EQ(std::memcmp(a.data, b.data, sizeof(a.data)), 0) << "pixel " << i << ": " << a << " vs " << b;
+      ASSERT_EQ(a.rgba, b.rgba) << "pixel " << i;
+      valid += IsValidPoint(a);
+    }
+    EXPECT_GT(valid, 0);
+    EXPECT_LT(valid, static_cast<int>(scalar->size()));
+  }
 }
 
 }  // namespace

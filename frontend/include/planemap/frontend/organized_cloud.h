@@ -31,7 +31,14 @@ struct CloudConfig {
 // One point per pixel (width x height, row-major, is_dense = false). A pixel without a usable
 // depth (0, NaN, infinite, outside [min_depth, max_depth]) gets NaN coordinates: it is never a
 // point at the origin. Throws std::invalid_argument if the images' size differs from the camera.
+// With AVX2 where the processor has it (the build targets plain x86-64): the same cloud.
 Cloud::Ptr MakeOrganizedCloud(const RgbdFrame& frame, const CameraIntrinsics& camera, const CloudConfig& config);
+
+// MakeOrganizedCloud's two ways, for the test that holds them equal bit for bit: avx2 may be true
+// only if OrganizedCloudHasAvx2().
+bool OrganizedCloudHasAvx2();
+Cloud::Ptr MakeOrganizedCloud(const RgbdFrame& frame, const CameraIntrinsics& camera, const CloudConfig& config,
+                              bool avx2);
 
 // True for a point with finite coordinates.
 inline bool IsValidPoint(const pcl::PointXYZRGB& p) { return std::isfinite(p.z); }
