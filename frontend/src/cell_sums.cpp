@@ -102,8 +102,12 @@ CellSums SumCellAvx2(const pcl::PointXYZRGB* points, const std::uint8_t* usable,
   bool jump = false;
   // This row's and the one above's depths and usable bytes, 0 past the cell's end (the loads
   // read up to 8 on).
-  alignas(32) float depth[2][kMaxRow + 16] = {};
-  alignas(32) std::uint8_t used[2][kMaxRow + 16] = {};
+  alignas(32) float depth[2][kMaxRow + 16];
+  alignas(32) std::uint8_t used[2][kMaxRow + 16];
+  for (int r = 0; r < 2; ++r) {
+    std::memset(depth[r] + n, 0, 16 * sizeof(float));
+    std::memset(used[r] + n, 0, 16);
+  }
   for (int v = v0; v < v1; ++v) {
     const pcl::PointXYZRGB* row = points + static_cast<std::size_t>(v) * w;
     const std::uint8_t* use = usable + static_cast<std::size_t>(v) * w;
