@@ -9,10 +9,10 @@
 
 #include "planemap/core/detected_plane.h"
 
-// GCC only: the AVX2 loop's lambdas take its target from the pragma around it (below).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#include "cpu_features.h"
+
+#ifdef PLANEMAP_AVX2_LOOPS
 #include <immintrin.h>
-#define PLANEMAP_ASSIGN_AVX2 1
 #endif
 
 namespace planemap {
@@ -105,16 +105,9 @@ void AssignPixelsScalar(const AssignGrid& grid, const AssignOutput& out) {
   hold(-1);
 }
 
-bool AssignPixelsHasAvx2() {
-#ifdef PLANEMAP_ASSIGN_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-#else
-  return false;
-#endif
-}
+bool AssignPixelsHasAvx2() { return CpuHasAvx2(); }
 
-#ifdef PLANEMAP_ASSIGN_AVX2
+#ifdef PLANEMAP_AVX2_LOOPS
 // The scalar loop, with AVX2 where a cell has one candidate plane and four pixels in a row are
 // usable and all near it (most of a frame): their distances to the plane are taken together, and
 // then each pixel does what the scalar loop does, in the same order. The held region's ten sums

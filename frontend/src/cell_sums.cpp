@@ -11,10 +11,10 @@
 #include <cstddef>
 #include <cstring>
 
-// GCC only: the AVX2 code's lambdas take its target from the pragma around it (below).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#include "cpu_features.h"
+
+#ifdef PLANEMAP_AVX2_LOOPS
 #include <immintrin.h>
-#define PLANEMAP_CELL_SUMS_AVX2 1
 #endif
 
 namespace planemap {
@@ -45,16 +45,9 @@ CellSums SumCellScalar(const pcl::PointXYZRGB* points, const std::uint8_t* usabl
   return s;
 }
 
-bool SumCellHasAvx2() {
-#ifdef PLANEMAP_CELL_SUMS_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-#else
-  return false;
-#endif
-}
+bool SumCellHasAvx2() { return CpuHasAvx2(); }
 
-#ifdef PLANEMAP_CELL_SUMS_AVX2
+#ifdef PLANEMAP_AVX2_LOOPS
 // The same sums with AVX2, in the same order: the ten sums lie side by side in three vectors, each
 // still added to one point after another, so every sum is the same double as SumCellScalar's.
 // A point's x, y, z (and PCL's fourth float, replaced by 1: the count) are read as one vector:

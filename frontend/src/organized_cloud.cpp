@@ -5,10 +5,10 @@
 #include <stdexcept>
 #include <string>
 
-// GCC only: the AVX2 row is compiled for that target by the pragma around it (below).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#include "cpu_features.h"
+
+#ifdef PLANEMAP_AVX2_LOOPS
 #include <immintrin.h>
-#define PLANEMAP_CLOUD_AVX2 1
 #endif
 
 namespace planemap {
@@ -46,7 +46,7 @@ void FillRow(const CloudRow& row, int u0) {
   }
 }
 
-#ifdef PLANEMAP_CLOUD_AVX2
+#ifdef PLANEMAP_AVX2_LOOPS
 #pragma GCC push_options
 #pragma GCC target("avx2")
 // FillRow four pixels at a time: the same double products, rounded to float the same way, each
@@ -90,14 +90,7 @@ void FillRowAvx2(const CloudRow& row) {
 
 }  // namespace
 
-bool OrganizedCloudHasAvx2() {
-#ifdef PLANEMAP_CLOUD_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-#else
-  return false;
-#endif
-}
+bool OrganizedCloudHasAvx2() { return CpuHasAvx2(); }
 
 Cloud::Ptr MakeOrganizedCloud(const RgbdFrame& frame, const CameraIntrinsics& camera, const CloudConfig& config,
                               bool avx2) {
@@ -121,7 +114,7 @@ Cloud::Ptr MakeOrganizedCloud(const RgbdFrame& frame, const CameraIntrinsics& ca
     row.color = has_color ? frame.color.data() + static_cast<std::size_t>(v) * w : nullptr;
     row.points = cloud->points.data() + static_cast<std::size_t>(v) * w;
     row.y_factor = (v - camera.cy) * inv_fy;
-#ifdef PLANEMAP_CLOUD_AVX2
+#ifdef PLANEMAP_AVX2_LOOPS
     if (avx2) {
       FillRowAvx2(row);
       continue;
