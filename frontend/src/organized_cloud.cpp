@@ -24,18 +24,22 @@ struct CloudRow {
   float z_min, z_max;
 };
 
+// Pixel u's colour into its point, if the row has colour (both loops below).
+inline void CopyColor(const CloudRow& row, int u) {
+  if (row.color == nullptr) return;
+  const Rgb8& c = row.color[u];
+  row.points[u].r = c[0];
+  row.points[u].g = c[1];
+  row.points[u].b = c[2];
+}
+
 // Pixels [u0, width) of the row: x = (u - cx) / fx z, y = (v - cy) / fy z in double, then float.
 void FillRow(const CloudRow& row, int u0) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (int u = u0; u < row.width; ++u) {
     pcl::PointXYZRGB& p = row.points[u];
     const float z = row.depth[u];
-    if (row.color != nullptr) {
-      const Rgb8& c = row.color[u];
-      p.r = c[0];
-      p.g = c[1];
-      p.b = c[2];
-    }
+    CopyColor(row, u);
     if (!(z >= row.z_min && z <= row.z_max)) {  // also false for NaN
       p.x = p.y = p.z = nan;
       continue;
@@ -74,14 +78,7 @@ void FillRowAvx2(const CloudRow& row) {
     _mm_storeu_ps(row.points[u + 1].data, y);
     _mm_storeu_ps(row.points[u + 2].data, zz);
     _mm_storeu_ps(row.points[u + 3].data, w);
-    if (row.color != nullptr) {
-      for (int k = u; k < u + 4; ++k) {
-        const Rgb8& c = row.color[k];
-        row.points[k].r = c[0];
-        row.points[k].g = c[1];
-        row.points[k].b = c[2];
-      }
-    }
+    for (int k = u; k < u + 4; ++k) CopyColor(row, k);
   }
   FillRow(row, u);
 }
