@@ -83,7 +83,7 @@ void AssignPixelsScalar(const AssignGrid& grid, const AssignOutput& out) {
         if (!usable_row[u]) continue;
         const pcl::PointXYZRGB& p = point_row[u];
         const double x = p.x, y = p.y, z = p.z;
-        const double limit = inlier_base + inlier_quadratic * z * z;
+        const double limit = GrowsWithDepth(inlier_base, inlier_quadratic, z);
         int close_planes = 0;
         const int best_region = Nearest(candidate, count, x, y, z, limit, &close_planes);
         if (best_region < 0) continue;
@@ -190,7 +190,7 @@ void AssignPixelsAvx2(const AssignGrid& grid, const AssignOutput& out) {
         if (!usable_row[u]) return;
         const pcl::PointXYZRGB& p = point_row[u];
         const double x = p.x, y = p.y, z = p.z;
-        const double limit = inlier_base + inlier_quadratic * z * z;
+        const double limit = GrowsWithDepth(inlier_base, inlier_quadratic, z);
         int close_planes = 0;
         const int best_region = Nearest(candidate, count, x, y, z, limit, &close_planes);
         if (best_region < 0) return;

@@ -17,6 +17,11 @@ namespace planemap {
 // (an array, so they are added pairwise in vector registers).
 using WeightedSums = Eigen::Array<double, 10, 1>;
 
+// A distance limit that grows with depth as a depth sensor's noise does: base + quadratic z^2 [m].
+// The inlier limit of step 4, and the segmenter's other limits (organized_segmenter.cpp); the
+// order of the operations is part of the bit-for-bit agreement of the scalar and AVX2 loops.
+inline double GrowsWithDepth(double base, double quadratic, double z) { return base + quadratic * z * z; }
+
 // A plane a cell's pixels may go to: n.p + d = 0, and the region it is.
 struct AssignCandidate {
   double nx, ny, nz, d;

@@ -20,8 +20,6 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-double GrowsWithDepth(double base, double quadratic, double z) { return base + quadratic * z * z; }
-
 // A plane fitted to moments, oriented toward the camera; fast closed-form eigen solve.
 struct QuickFit {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
