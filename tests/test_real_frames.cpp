@@ -404,6 +404,49 @@ TEST(RealFrames, EdgesEndWhereTheCameraSeesThemEnd) {
   EXPECT_LE(*std::max_element(now.dimension_error.begin(), now.dimension_error.end()), 0.01) << "m";
 }
 
+TEST(RealFrames, ASideSplitAtItsRoundedCornerIsMeasuredAlongBothPieces) {
+  // learn17's lower box: its right side is two planes 5.8 deg apart, one at the rounded front
+  // corner, each meeting the table along a piece of one line. Its top shows only as ledges (the
+  // box is not found with a top: see above), but its front, its side's two pieces and the table
+  // make an object. Measured from one piece, it was 12.8 cm deep, called whole.
+  const PcdFrame pcd = LoadOrganizedPcd(SharedPath("data/osd_boxes_learn/pcd/learn17.pcd"), OpenNi());
+  ObjectConfig off;
+  off.edge_join_distance = 0.0;
+  FrontendConfig before;
+  before.objects = off;
+  for (const bool join : {true, false}) {
+    const FrameModel model = MakeFrontend(join ? FrontendConfig{} : before).Process(*pcd.cloud);
+    // The object all of whose faces hold mostly box 1's points (labels 20-29).
+    const FrameObject* lower = nullptr;
+    for (const FrameObject& o : model.objects) {
+      bool all = true;
+      for (int p : o.planes) {
+        int mine = 0;
+        for (int i : model.planes[p].inliers) mine += ObjectOf(pcd.labels[i]) == 1;
+        all = all && mine > 0.7 * model.planes[p].inliers.size();
+      }
+      if (all) lower = &o;
+    }
+    ASSERT_NE(lower, nullptr) << (join ? "joined" : "not joined");
+    // Its depth (the axis across the front) against the labelled points' extent along it.
+    std::vector<double> along;
+    for (size_t i = 0; i < pcd.labels.size(); ++i) {
+      if (ObjectOf(pcd.labels[i]) == 1 && IsValidPoint((*pcd.cloud)[i])) {
+        along.push_back(lower->axes.col(0).dot((*pcd.cloud)[i].getVector3fMap().cast<double>()));
+      }
+    }
+    const double labelled = Percentile(along, 0.99) - Percentile(along, 0.01);
+    std::printf("learn17 lower box, edge pieces %s: %.1f cm deep (%s), labelled %.1f cm\n", join ? "joined" : "apart",
+                100 * lower->dimensions[0], lower->dimension_complete[0] ? "whole" : "cut", 100 * labelled);
+    ASSERT_TRUE(lower->dimension_complete[0]);
+    if (join) {
+      EXPECT_NEAR(lower->dimensions[0], labelled, 0.01) << "m";
+    } else {
+      EXPECT_GT(std::abs(lower->dimensions[0] - labelled), 0.03) << "m";
+    }
+  }
+}
+
 TEST(RealFrames, TumOfficeFramesGivePlanesAndNoInventedObjects) {
   const Frontend frontend = MakeFrontend();
   int frames = 0;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "planemap/core/error.h"
 
@@ -53,6 +55,73 @@ std::string Orientation(const FrameModel& model, int plane, const Eigen::Vector3
   if (c > std::cos(tolerance)) return "horizontal";
   if (c < std::sin(tolerance)) return "vertical";
   return "slanted";
+}
+
+// Distance of `p` from the line through `on` along the unit `direction` [m].
+double LineDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& on, const Eigen::Vector3d& direction) {
+  const Eigen::Vector3d r = p - on;
+  return (r - r.dot(direction) * direction).norm();
+}
+
+// Pieces of one edge (ObjectConfig::edge_join_*), joined two at a time until no two are left:
+// the two measure one axis (axis_of(direction), the same and not -1) and share a plane, the
+// shorter piece's ends lie on the longer one's line, and their stretches along that line overlap
+// or leave a gap of at most edge_join_gap. The joined edge runs along the longer piece's line
+// from the lower of the two ends to the higher, each end cut as the piece it came from is cut
+// there (a complete end within edge_length_tolerance of a cut one that goes on past it stands).
+template <class AxisOf>
+void JoinEdgePieces(const ObjectConfig& config, AxisOf&& axis_of, std::vector<PlaneEdge>* edges) {
+  if (config.edge_join_distance <= 0.0) return;
+  struct End {
+    double t;  // along the longer piece's line [m]
+    bool cut;
+  };
+  bool joined = true;
+  while (joined) {
+    joined = false;
+    for (size_t i = 0; i < edges->size() && !joined; ++i) {
+      for (size_t j = i + 1; j < edges->size() && !joined; ++j) {
+        const PlaneEdge& a = (*edges)[i];
+        const PlaneEdge& b = (*edges)[j];
+        const bool share = a.plane_a == b.plane_a || a.plane_a == b.plane_b || a.plane_b == b.plane_a ||
+                           a.plane_b == b.plane_b;
+        const int axis = axis_of(a.direction);
+        const PlaneEdge& longer = a.length >= b.length ? a : b;
+        const PlaneEdge& shorter = a.length >= b.length ? b : a;
+        if (!share || axis < 0 || axis_of(b.direction) != axis ||
+            LineDistance(shorter.start, longer.start, longer.direction) > config.edge_join_distance ||
+            LineDistance(shorter.end, longer.start, longer.direction) > config.edge_join_distance) {
+          continue;
+        }
+        auto ends = [&](const PlaneEdge& e) {
+          const End s{longer.direction.dot(e.start - longer.start), e.start_cut};
+          const End t{longer.direction.dot(e.end - longer.start), e.end_cut};
+          return s.t <= t.t ? std::make_pair(s, t) : std::make_pair(t, s);
+        };
+        const auto [a_low, a_high] = ends(longer);
+        const auto [b_low, b_high] = ends(shorter);
+        if (std::max(b_low.t - a_high.t, a_low.t - b_high.t) > config.edge_join_gap) continue;
+        // Each end the farther of the two pieces', but a complete end stands against a cut one
+        // that goes on past it only by edge_length_tolerance (noise, as for whole edges below).
+        const auto pick = [&](const End& farther, const End& other) {
+          return farther.cut && !other.cut && std::abs(farther.t - other.t) <= config.edge_length_tolerance ? other : farther;
+        };
+        const End low = b_low.t < a_low.t ? pick(b_low, a_low) : pick(a_low, b_low);
+        const End high = b_high.t > a_high.t ? pick(b_high, a_high) : pick(a_high, b_high);
+        PlaneEdge piece = longer;
+        piece.start = longer.start + low.t * longer.direction;
+        piece.end = longer.start + high.t * longer.direction;
+        piece.direction = longer.direction;
+        piece.length = high.t - low.t;
+        piece.start_cut = low.cut;
+        piece.end_cut = high.cut;
+        piece.points = a.points + b.points;
+        (*edges)[i] = piece;
+        edges->erase(edges->begin() + static_cast<std::ptrdiff_t>(j));
+        joined = true;
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -167,9 +236,13 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
       }
       return -1;
     };
-    Eigen::Vector3d longest_cut = Eigen::Vector3d::Zero();
+    std::vector<PlaneEdge> edges;
     for (const PlaneEdge& e : model->edges) {
-      if (!members.count(e.plane_a) || !members.count(e.plane_b)) continue;
+      if (members.count(e.plane_a) && members.count(e.plane_b)) edges.push_back(e);
+    }
+    JoinEdgePieces(config, axis_of, &edges);
+    Eigen::Vector3d longest_cut = Eigen::Vector3d::Zero();
+    for (const PlaneEdge& e : edges) {
       if (e.plane_a == model->floor && e.plane_b == model->floor) continue;
       const int k = axis_of(e.direction);
       if (k < 0) continue;

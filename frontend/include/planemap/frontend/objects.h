@@ -61,6 +61,12 @@ struct ObjectConfig {
   double grasp_max_height = 0.60;           // and up to this tall [m]
   double edge_length_tolerance = 0.03;      // a complete edge this much shorter than a cut one along
                                             // the same axis is not the object's whole dimension [m]
+  // Pieces of one edge: two of an object's edges on one axis that share a plane, the shorter
+  // one's ends within edge_join_distance of the longer one's line, and at most edge_join_gap
+  // apart along it, are one edge (a face the segmenter split in two meets the floor along two
+  // pieces of one line); the dimension is their union's. edge_join_distance 0: off. [m], [m]
+  double edge_join_distance = 0.01;
+  double edge_join_gap = 0.02;
 
   std::string CrossCheck() const {
     return hand_span_min <= hand_span_max ? "" : "hand_span_min must not exceed hand_span_max";
@@ -74,6 +80,8 @@ struct ObjectConfig {
     v("hand_span_max", hand_span_max, Check::kPositive);
     v("grasp_max_height", grasp_max_height, Check::kPositive);
     v("edge_length_tolerance", edge_length_tolerance, Check::kNonNegative);
+    v("edge_join_distance", edge_join_distance, Check::kNonNegative);
+    v("edge_join_gap", edge_join_gap, Check::kNonNegative);
   }
 };
 
