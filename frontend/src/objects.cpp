@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "planemap/core/error.h"
 
 namespace planemap {
@@ -57,12 +59,6 @@ std::string Orientation(const FrameModel& model, int plane, const Eigen::Vector3
   return "slanted";
 }
 
-// Distance of `p` from the line through `on` along the unit `direction` [m].
-double LineDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& on, const Eigen::Vector3d& direction) {
-  const Eigen::Vector3d r = p - on;
-  return (r - r.dot(direction) * direction).norm();
-}
-
 // Pieces of one edge (ObjectConfig::edge_join_*), joined two at a time until no two are left:
 // the two measure one axis (axis_of(direction), the same and not -1) and share a plane, the
 // shorter piece's ends lie on the longer one's line, and their stretches along that line overlap
@@ -88,9 +84,10 @@ void JoinEdgePieces(const ObjectConfig& config, AxisOf&& axis_of, std::vector<Pl
         const int axis = axis_of(a.direction);
         const PlaneEdge& longer = a.length >= b.length ? a : b;
         const PlaneEdge& shorter = a.length >= b.length ? b : a;
+        const Eigen::ParametrizedLine<double, 3> line(longer.start, longer.direction);
         if (!share || axis < 0 || axis_of(b.direction) != axis ||
-            LineDistance(shorter.start, longer.start, longer.direction) > config.edge_join_distance ||
-            LineDistance(shorter.end, longer.start, longer.direction) > config.edge_join_distance) {
+            line.distance(shorter.start) > config.edge_join_distance ||
+            line.distance(shorter.end) > config.edge_join_distance) {
           continue;
         }
         auto ends = [&](const PlaneEdge& e) {
