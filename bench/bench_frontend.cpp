@@ -250,10 +250,18 @@ void BM_FrontendNoStrips(benchmark::State& state) {
   RunFrontend(state, config);
 }
 
+// Without the planes' fringes in the intersections (intersections.fringe_px: 0).
+void BM_FrontendNoFringes(benchmark::State& state) {
+  FrontendConfig config;
+  config.intersections.fringe_px = 0;
+  RunFrontend(state, config);
+}
+
 BENCHMARK(BM_Cloud)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Frontend)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendNoOcclusionInference)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendNoStrips)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrontendNoFringes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageIntersections)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageObjects)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Organized)->Unit(benchmark::kMillisecond);
@@ -302,6 +310,10 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     if (ms_.count("BM_FrontendNoStrips")) {
       std::printf("  without the search for thin strips: %.2f ms/frame (%.2fx)\n", ms_.at("BM_FrontendNoStrips"),
                   ms_.at("BM_Frontend") / ms_.at("BM_FrontendNoStrips"));
+    }
+    if (ms_.count("BM_FrontendNoFringes")) {
+      std::printf("  without the planes' fringes in the intersections: %.2f ms/frame (%.2fx)\n", ms_.at("BM_FrontendNoFringes"),
+                  ms_.at("BM_Frontend") / ms_.at("BM_FrontendNoFringes"));
     }
   }
 

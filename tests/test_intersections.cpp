@@ -43,7 +43,10 @@ struct EdgeFigures {
 
 // For each viewpoint: segment, intersect, and compare every edge between two box faces or a box
 // face and the floor with the true edge.
-EdgeFigures Evaluate(const std::vector<Pose3>& poses, const IntersectionConfig& config = IntersectionConfig{}) {
+// With drop_columns, each box face's planes lose their first drop_columns pixels of each row (the
+// left end of the face), which then belong to no plane.
+EdgeFigures Evaluate(const std::vector<Pose3>& poses, const IntersectionConfig& config = IntersectionConfig{},
+                     int drop_columns = 0) {
   const auto segmenter = MakePlaneSegmenter(SegmenterConfig{});
   const sim::Scene& scene = testing::DefaultScene();
   const sim::Cuboid& box = scene.cuboids[scene.object("box").cuboids[0]];
@@ -65,7 +68,19 @@ EdgeFigures Evaluate(const std::vector<Pose3>& poses, const IntersectionConfig& 
         if (box.face_labels[face] == m.label) face_of_plane[m.plane] = face;
       }
     }
-    const std::vector<PlaneEdge> edges = FindIntersections(segmentation.planes, *cloud, XtionCamera(), config);
+    std::vector<DetectedPlane> planes = segmentation.planes;
+    for (const auto& [plane, face] : face_of_plane) {
+      if (face == 6 || drop_columns == 0) continue;
+      std::vector<int> kept;
+      int row = -1, first = 0;
+      for (const int i : planes[plane].inliers) {
+        const int v = i / static_cast<int>(cloud->width), u = i % static_cast<int>(cloud->width);
+        if (v != row) row = v, first = u;
+        if (u >= first + drop_columns) kept.push_back(i);
+      }
+      planes[plane].inliers = kept;
+    }
+    const std::vector<PlaneEdge> edges = FindIntersections(planes, *cloud, XtionCamera(), config);
     const Pose3 T_camera_world = poses[k].inverse();
     // True edges between the visible faces (and the floor, which is the box's -z face plane).
     std::vector<int> visible;
@@ -125,6 +140,26 @@ TEST(Intersections, BoxEdgesHaveTheirTrueLengthsAndEnds) {
   ASSERT_GE(f.complete, 30);
   EXPECT_LE(Median(f.length_error), 0.01) << "m";
   EXPECT_LE(Median(f.end_error), 0.015) << "m";
+}
+
+TEST(Intersections, PixelsBesideAFaceThatNoPlaneTookAreItsFringeForTheEdges) {
+  // A face's last pixels in each row that went to no plane (as a face's end beside cells mixed
+  // with the background does in the organized segmenter: OSD learn17's lower box, README): with
+  // fringe_px they count as the face's again for the edges, which come back to within 2 mm of their
+  // lengths with those pixels in the face (at the median; a dropped pixel nearer the other plane
+  // is that plane's fringe); without, the edges that run across the rows end about a centimetre
+  // short. (On 44 views: 1.6 mm untouched, 2.8 with the fringe, 13.3 without.)
+  IntersectionConfig fringe, none;
+  fringe.fringe_px = 8;
+  none.fringe_px = 0;
+  const std::vector<Pose3> views = testing::BoxViewpoints();
+  const EdgeFigures whole = Evaluate(views, none);
+  const EdgeFigures grown = Evaluate(views, fringe, 6);
+  const EdgeFigures short_ends = Evaluate(views, none, 6);
+  ASSERT_GE(grown.complete, 30);
+  EXPECT_LE(Median(grown.length_error), Median(whole.length_error) + 0.002) << "m";
+  EXPECT_GT(Median(short_ends.length_error), Median(grown.length_error) + 0.005) << "m";
+  EXPECT_LE(Median(grown.end_error), 0.015) << "m";
 }
 
 TEST(Intersections, AlongRayOntoPlaneKeepsThePixel) {

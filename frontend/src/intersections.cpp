@@ -21,14 +21,14 @@ struct Window {
   int u0 = 0, u1 = 0, v0 = 0, v1 = 0;
 };
 
-// Calls fn(point) for each inlier of `plane` inside `window` (inliers are sorted by pixel index).
+// Calls fn(point) for each of `pixels` (sorted by pixel index) inside `window`.
 template <typename Fn>
-void ForInliersIn(const DetectedPlane& plane, const Window& window, const Cloud& cloud, Fn&& fn) {
+void ForPixelsIn(const std::vector<int>& pixels, const Window& window, const Cloud& cloud, Fn&& fn) {
   const int w = static_cast<int>(cloud.width);
   // Raw pointers in locals: fn appends to vectors, which as far as the compiler knows might
   // hold the inliers' or the cloud's bounds, and would have them read again for every point.
-  const int* it = plane.inliers.data();
-  const int* const last = it + plane.inliers.size();
+  const int* it = pixels.data();
+  const int* const last = it + pixels.size();
   const pcl::PointXYZRGB* const points = cloud.points.data();
   for (int v = window.v0; v <= window.v1 && it != last; ++v) {
     it = std::lower_bound(it, last, v * w + window.u0);
@@ -61,15 +61,15 @@ Eigen::Vector3d AlongRayOntoPlane(const Plane& plane, const Eigen::Vector3d& p) 
 
 namespace {
 
-// Eqs. (2)-(5): inliers of `own` within d_thresh of both planes and farther than d_min from both;
-// and (band) inliers of `own` from d_thresh to band_width away from `other`. With band_on_plane,
+// Eqs. (2)-(5): pixels of `own` (its inliers, then its fringe) within d_thresh of both planes and
+// farther than d_min from both; and (band) its pixels from d_thresh to band_width away from `other`. With band_on_plane,
 // a band point moves along its ray onto `own` when its distance to `own` is within the depth
 // noise (band_on_plane_max_sigma robust standard deviations of the band's distances) and no
 // other of `planes` is nearer: a point beyond either may be a neighbouring surface's pixel the
 // segmenter gave to `own` (a side face's pixel beside a corner), which its ray would carry past
 // the corner; it stays where it was.
 // `distance` and `sorted` are scratch space, reused from call to call.
-void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other,
+void CollectEdgePoints(const DetectedPlane& own, const std::vector<int>& own_fringe, const DetectedPlane& other,
                        const std::vector<const DetectedPlane*>& nearby,
                        const Window& window, const Cloud& cloud, const IntersectionConfig& c,
                        std::vector<Eigen::Vector3d>* points, std::vector<Eigen::Vector3d>* band,
@@ -82,7 +82,7 @@ void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other,
   const double d_thresh = c.d_thresh, d_min = c.d_min, band_width = c.band_width;
   const bool band_on_plane = c.band_on_plane;
   const double far = std::max(d_thresh, band_width);
-  ForInliersIn(own, window, cloud, [&](const Eigen::Vector3d& p) {
+  auto visit = [&](const Eigen::Vector3d& p) {
     const double d_other = std::abs(other_plane.SignedDistance(p));  // eq. (3) / (5)
     if (d_other >= far) return;                                      // most of the window: far from the edge
     const double d_own = std::abs(own_plane.SignedDistance(p));      // eq. (2) / (4)
@@ -94,7 +94,9 @@ void CollectEdgePoints(const DetectedPlane& own, const DetectedPlane& other,
     }
     band->push_back(p);
     distance.push_back(own_nearest ? d_own : -1.0);
-  });
+  };
+  ForPixelsIn(own.inliers, window, cloud, visit);
+  ForPixelsIn(own_fringe, window, cloud, visit);
   if (!c.band_on_plane || distance.empty()) return;
   sorted->assign(distance.begin(), distance.end());
   const auto middle = sorted->begin() + static_cast<std::ptrdiff_t>(sorted->size() / 2);
@@ -525,6 +527,68 @@ void AddHiddenEdges(const std::vector<DetectedPlane>& planes, const Cloud& cloud
   }
 }
 
+// The planes' fringes (IntersectionConfig::fringe_px): ring by ring out from the planes' pixels,
+// each pixel with depth that no plane took goes to the nearest of its 4-neighbours' planes within
+// the fringe distance of it. A ring's pixels are given their planes only after all of them are
+// decided, so the result does not depend on the order of visits. plane_of_pixel (-1: no plane)
+// gets the fringes' pixels too; each plane's fringe comes out sorted by pixel index.
+std::vector<std::vector<int>> Fringes(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
+                                      const IntersectionConfig& c, std::vector<int>* plane_of_pixel) {
+  std::vector<std::vector<int>> fringe(planes.size());
+  if (c.fringe_px <= 0) return fringe;
+  std::vector<int>& owner = *plane_of_pixel;
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
+  auto neighbours = [&](int i, int u, int v, auto&& visit) {
+    if (u > 0) visit(i - 1);
+    if (u + 1 < w) visit(i + 1);
+    if (v > 0) visit(i - w);
+    if (v + 1 < h) visit(i + w);
+  };
+  // The first ring: free pixels beside a plane's, with depth.
+  std::vector<int> ring, next;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0, i = v * w; u < w; ++u, ++i) {
+      if (owner[i] != -1) continue;
+      bool beside = false;
+      neighbours(i, u, v, [&](int j) { beside = beside || owner[j] >= 0; });
+      if (beside && IsValidPoint(cloud[i])) ring.push_back(i);
+    }
+  }
+  std::vector<std::pair<int, int>> taken;  // pixel, plane: this ring's
+  for (int step = 0; step < c.fringe_px && !ring.empty(); ++step) {
+    taken.clear();
+    for (const int i : ring) {
+      const Eigen::Vector3d p = PointAt(cloud, i);
+      int best = -1;
+      double best_distance = c.fringe_distance_base + c.fringe_distance_quadratic * p.z() * p.z();
+      neighbours(i, i % w, i / w, [&](int j) {
+        const int k = owner[j];
+        if (k < 0 || k == best) return;
+        const double d = std::abs(planes[k].plane.SignedDistance(p));
+        if (d < best_distance || (d == best_distance && k < best)) best = k, best_distance = d;
+      });
+      if (best >= 0) taken.emplace_back(i, best);
+    }
+    for (const auto& [i, k] : taken) {
+      owner[i] = k;
+      fringe[k].push_back(i);
+    }
+    next.clear();
+    for (const auto& [i, k] : taken) {
+      neighbours(i, i % w, i / w, [&](int j) {
+        if (owner[j] == -1 && IsValidPoint(cloud[j])) {
+          owner[j] = -2;  // queued once
+          next.push_back(j);
+        }
+      });
+    }
+    for (const int j : next) owner[j] = -1;
+    ring.swap(next);
+  }
+  for (std::vector<int>& f : fringe) std::sort(f.begin(), f.end());
+  return fringe;
+}
+
 }  // namespace
 
 std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& planes, const Cloud& cloud,
@@ -550,6 +614,17 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
     if (!inliers.empty()) {
       win.v0 = inliers.front() / w;
       win.v1 = inliers.back() / w;
+    }
+  }
+  // The fringes count as their planes' pixels for the edges (and in plane_of_pixel); the planes
+  // themselves are left as they are.
+  const std::vector<std::vector<int>> fringe = Fringes(planes, cloud, c, &plane_of_pixel);
+  for (size_t k = 0; k < planes.size(); ++k) {
+    for (const int i : fringe[k]) {
+      boxes[k].Extend(PointAt(cloud, i));
+      Window& win = pixels[k];
+      win.u0 = std::min(win.u0, i % w), win.u1 = std::max(win.u1, i % w);
+      win.v0 = std::min(win.v0, i / w), win.v1 = std::max(win.v1, i / w);
     }
   }
   // Plane k's pixel box grown by band_width seen at its nearest depth, clipped to the image.
@@ -579,8 +654,8 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
           nearby.push_back(&planes[k]);
         }
       }
-      CollectEdgePoints(planes[a], planes[b], nearby, grown(b), cloud, c, &points_a, &band_a, &distance, &sorted);
-      CollectEdgePoints(planes[b], planes[a], nearby, grown(a), cloud, c, &points_b, &band_b, &distance, &sorted);
+      CollectEdgePoints(planes[a], fringe[a], planes[b], nearby, grown(b), cloud, c, &points_a, &band_a, &distance, &sorted);
+      CollectEdgePoints(planes[b], fringe[b], planes[a], nearby, grown(a), cloud, c, &points_b, &band_b, &distance, &sorted);
       if (static_cast<int>(points_a.size() + points_b.size()) < c.min_points) continue;
 
       // The intersection line: direction n_a x n_b through the point nearest the origin.

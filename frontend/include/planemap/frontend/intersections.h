@@ -35,6 +35,15 @@ struct IntersectionConfig {
   double end_on_ending_plane_max = 0.02;
   int free_space_min_run = 3;      // an edge end this many pixels or more in front of what the
                                    // camera sees there moves in to where it is not [px]
+  // A face's last pixels beside cells not its own (mixed with the table under a box, or with the
+  // background past its silhouette) may have gone to no plane: the organized segmenter offers a
+  // pixel only the planes of the cells around it. For the edges, such pixels count as a plane's
+  // (its fringe) when they lie within fringe_distance_base + fringe_distance_quadratic z^2 of it
+  // and connect to its inliers through 4-neighbours like them, up to fringe_px pixels out (each
+  // to the nearest such plane). The planes themselves are left as they are. [px] (0: off), [m], [1/m]
+  int fringe_px = 8;
+  double fringe_distance_base = 0.005;
+  double fringe_distance_quadratic = 0.005;
   double band_width = 0.09;        // each plane's extent along the edge is measured on its inliers
                                    // from d_thresh to this far from the other plane [m]
   double end_trim_fraction = 0.0;  // share of each plane's band points ignored at either end
@@ -82,6 +91,9 @@ struct IntersectionConfig {
     v("face_run_length", face_run_length, Check::kPositive);
     v("unseen_run_length", unseen_run_length, Check::kPositive);
     v("free_space_min_run", free_space_min_run, Check::kPositive);
+    v("fringe_px", fringe_px, Check::kNonNegative);
+    v("fringe_distance_base", fringe_distance_base, Check::kNonNegative);
+    v("fringe_distance_quadratic", fringe_distance_quadratic, Check::kNonNegative);
     v("band_width", band_width, Check::kPositive);
     v("end_trim_fraction", end_trim_fraction, Check::kProbability);
     v("band_on_plane", band_on_plane);
