@@ -9,6 +9,8 @@
 #include "planemap/core/statistics.h"
 #include "planemap/frontend/plane_segmenter.h"
 
+#include "assign_pixels.h"  // GrowsWithDepth
+
 namespace planemap {
 namespace {
 
@@ -560,7 +562,7 @@ std::vector<std::vector<int>> Fringes(const std::vector<DetectedPlane>& planes, 
     for (const int i : ring) {
       const Eigen::Vector3d p = PointAt(cloud, i);
       int best = -1;
-      double best_distance = c.fringe_distance_base + c.fringe_distance_quadratic * p.z() * p.z();
+      double best_distance = GrowsWithDepth(c.fringe_distance_base, c.fringe_distance_quadratic, p.z());
       neighbours(i, i % w, i / w, [&](int j) {
         const int k = owner[j];
         if (k < 0 || k == best) return;
