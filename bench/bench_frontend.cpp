@@ -242,6 +242,20 @@ void RunStage(benchmark::State& state, FrameModel Staged::*input, Stage stage) {
 }
 void BM_StageIntersections(benchmark::State& state) { RunStage(state, &Staged::segmented, &Frontend::FindEdges); }
 void BM_StageObjects(benchmark::State& state) { RunStage(state, &Staged::intersected, &Frontend::FindObjects); }
+// Within FindObjects: the faces in pieces alone (FindFaces, PlaneGraphConfig::face_piece_*).
+void BM_StageFaces(benchmark::State& state) {
+  const Frames& data = Shared();
+  const Stages& stages = SharedStages();
+  size_t k = 0;
+  for (auto _ : state) {
+    const size_t f = k++ % data.frames.size();
+    state.PauseTiming();
+    FrameModel model = stages.frames[f].intersected;
+    state.ResumeTiming();
+    FindFaces(*data.frames[f].cloud, FrontendConfig{}.graph, &model);
+    benchmark::DoNotOptimize(model.face_of.data());
+  }
+}
 
 // Without the segmenter's search for thin strips (organized.leftover_hypotheses: 0).
 void BM_FrontendNoStrips(benchmark::State& state) {
@@ -264,6 +278,7 @@ BENCHMARK(BM_FrontendNoStrips)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendNoFringes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageIntersections)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StageObjects)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StageFaces)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Organized)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OrganizedNoStrips)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PclOrganizedMultiPlane)->Unit(benchmark::kMillisecond);

@@ -142,5 +142,95 @@ TEST(PlaneGraph, SingleWallOrFloorGivesNoAngleAndNoObject) {
   }
 }
 
+// Faces in pieces (FindFaces) on hand-made planes: a front (z = 1 m) and, above it, two ledges
+// of a top 25 cm apart along the front's top edge, 4 deg apart, and a third top plane whose edge
+// with the front runs right beside the first ledge's (a rounded corner, across from it).
+struct Pieces {
+  Cloud cloud;
+  FrameModel model;
+  // A plane through points at z = 1 + slope * (y - 0.1) above y = 0.1 over x in [x0, x1] (a ledge
+  // going back from the front's top edge), with its edge with the front (plane 0).
+  void AddLedge(double x0, double x1, double slope, bool convex) {
+    DetectedPlane p;
+    p.id = static_cast<int>(model.planes.size());
+    for (double x = x0; x <= x1 + 1e-9; x += 0.005) {
+      for (double depth = 0.0; depth <= 0.03; depth += 0.005) {
+        pcl::PointXYZRGB q;
+        q.x = static_cast<float>(x), q.y = static_cast<float>(0.1 - slope * depth), q.z = static_cast<float>(1.0 + depth);
+        p.inliers.push_back(static_cast<int>(cloud.size()));
+        cloud.push_back(q);
+      }
+    }
+    p = FitDetectedPlane(cloud, p.inliers);
+    p.id = static_cast<int>(model.planes.size());
+    model.planes.push_back(p);
+    PlaneEdge e;
+    e.plane_a = 0, e.plane_b = p.id;
+    e.start = Eigen::Vector3d(x0, 0.1, 1.0), e.end = Eigen::Vector3d(x1, 0.1, 1.0);
+    e.direction = Eigen::Vector3d::UnitX(), e.length = x1 - x0, e.convex = convex;
+    model.edges.push_back(e);
+    model.structure.push_back(false);
+  }
+  Pieces() {
+    DetectedPlane front;  // z = 1 m, facing the camera
+    for (double x = -0.2; x <= 0.2; x += 0.01) {
+      for (double y = 0.1; y <= 0.3; y += 0.01) {
+        pcl::PointXYZRGB q;
+        q.x = static_cast<float>(x), q.y = static_cast<float>(y), q.z = 1.0f;
+        front.inliers.push_back(static_cast<int>(cloud.size()));
+        cloud.push_back(q);
+      }
+    }
+    front = FitDetectedPlane(cloud, front.inliers);
+    front.id = 0;
+    model.planes.push_back(front);
+    model.structure.push_back(false);
+  }
+};
+
+TEST(PlaneGraph, NearParallelPlanesMeetingAThirdSideBySideArePiecesOfOneFace) {
+  Pieces side_by_side;
+  side_by_side.AddLedge(-0.15, -0.10, std::tan(2.0 * M_PI / 180.0), true);
+  side_by_side.AddLedge(0.10, 0.15, std::tan(-2.0 * M_PI / 180.0), true);
+  FindFaces(side_by_side.cloud, PlaneGraphConfig{}, &side_by_side.model);
+  EXPECT_EQ(side_by_side.model.FaceOf(2), 1);
+  EXPECT_EQ(side_by_side.model.FaceOf(0), 0);
+  // The face's plane, fitted to both, lies between the two: 2 deg from each.
+  const Plane& face = side_by_side.model.FacePlane(1);
+  EXPECT_NEAR(NormalAngle(face, side_by_side.model.planes[1].plane) * 180 / M_PI, 2.0, 0.3) << "deg";
+  EXPECT_NEAR(NormalAngle(face, side_by_side.model.planes[2].plane) * 180 / M_PI, 2.0, 0.3) << "deg";
+
+  // Off, and planes more than face_piece_max_angle_deg apart (12 deg), stay apart.
+  PlaneGraphConfig off;
+  off.face_piece_max_angle_deg = 0.0;
+  FindFaces(side_by_side.cloud, off, &side_by_side.model);
+  EXPECT_EQ(side_by_side.model.FaceOf(2), 2);
+  Pieces steep;
+  steep.AddLedge(-0.15, -0.10, std::tan(6.0 * M_PI / 180.0), true);
+  steep.AddLedge(0.10, 0.15, std::tan(-6.0 * M_PI / 180.0), true);
+  FindFaces(steep.cloud, PlaneGraphConfig{}, &steep.model);
+  EXPECT_EQ(steep.model.FaceOf(2), 2);
+
+  // Across: the second meets the front along the same stretch as the first (a rounded corner
+  // beside a face's own edge), so it is no piece of it.
+  Pieces across;
+  across.AddLedge(-0.15, -0.05, std::tan(2.0 * M_PI / 180.0), true);
+  across.AddLedge(-0.14, -0.06, std::tan(-2.0 * M_PI / 180.0), true);
+  FindFaces(across.cloud, PlaneGraphConfig{}, &across.model);
+  EXPECT_EQ(across.model.FaceOf(2), 2);
+
+  // Concave edges (two objects standing on the third plane) make one face only side by side with
+  // at most face_piece_max_gap between them.
+  Pieces apart, touching;
+  apart.AddLedge(-0.15, -0.10, 0.0, false);
+  apart.AddLedge(0.10, 0.15, 0.0, false);
+  touching.AddLedge(-0.15, -0.01, 0.0, false);
+  touching.AddLedge(0.0, 0.15, 0.0, false);
+  FindFaces(apart.cloud, PlaneGraphConfig{}, &apart.model);
+  FindFaces(touching.cloud, PlaneGraphConfig{}, &touching.model);
+  EXPECT_EQ(apart.model.FaceOf(2), 2);
+  EXPECT_EQ(touching.model.FaceOf(2), 1);
+}
+
 }  // namespace
 }  // namespace planemap

@@ -153,7 +153,8 @@ struct BoxFigures {
 
 double Worst(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
-void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
+// Figures for the boxes of scene `index` (only box `only_box` when it is not 0).
+void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f, int only_box = 0) {
   const PcdFrame pcd = LoadOrganizedPcd(SharedPath("data/osd_boxes_learn/pcd/learn" + std::to_string(index) + ".pcd"), OpenNi());
   const FrameModel model = frontend.Process(*pcd.cloud);
   ++f->scenes;
@@ -183,6 +184,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
     }
   }
   for (const auto& [box, faces] : LabelledFaces(*pcd.cloud, pcd.labels)) {
+    if (only_box != 0 && box != only_box) continue;
     // Does the box show its top and two sides? Decided from its labelled points, not from what
     // the frontend found.
     std::vector<Eigen::Vector3d> face_normals;
@@ -194,7 +196,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
     const FrameObject* found = nullptr;
     for (const FrameObject& o : model.objects) {
       std::vector<Eigen::Vector3d> normals;
-      for (int p : o.planes) normals.push_back(model.planes[p].plane.normal);
+      for (int p : o.planes) normals.push_back(model.FacePlane(p).normal);
       if (std::all_of(o.planes.begin(), o.planes.end(), [&](int p) { return std::count(planes.begin(), planes.end(), p); }) &&
           TopAndTwoSides(normals, table_up)) {
         found = &o;
@@ -214,10 +216,17 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
     int both = 0;
     for (int i : mine) both += truth.count(i);
     f->iou.push_back(static_cast<double>(both) / (mine.size() + truth.size() - both));
+    // The object's faces: a plane, or the pieces of one face (FrameModel::face_of) with the plane
+    // fitted to them all; each judged once, as one face.
+    std::map<int, std::vector<int>> pieces;
+    for (int p : found->planes) pieces[model.FaceOf(p)].push_back(p);
+    std::vector<int> object_faces;
+    for (const auto& [face, members] : pieces) object_faces.push_back(face);
     // Each face's labelled face: the one holding most of its inliers.
-    std::vector<const LabelledFace*> truth_of(found->planes.size(), nullptr);
-    for (size_t a = 0; a < found->planes.size(); ++a) {
-      std::vector<int> inliers = model.planes[found->planes[a]].inliers;
+    std::vector<const LabelledFace*> truth_of(object_faces.size(), nullptr);
+    for (size_t a = 0; a < object_faces.size(); ++a) {
+      std::vector<int> inliers;
+      for (int p : pieces[object_faces[a]]) inliers.insert(inliers.end(), model.planes[p].inliers.begin(), model.planes[p].inliers.end());
       std::sort(inliers.begin(), inliers.end());
       size_t best = 0;
       for (const LabelledFace& face : faces) {
@@ -229,20 +238,19 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
         }
       }
       if (truth_of[a] == nullptr) continue;
-      const DetectedPlane& p = model.planes[found->planes[a]];
-      f->normal_error_deg.push_back(NormalAngle(p.plane, truth_of[a]->plane) * kRadToDeg);
+      f->normal_error_deg.push_back(NormalAngle(model.FacePlane(object_faces[a]), truth_of[a]->plane) * kRadToDeg);
       if (f->normal_error_deg.back() > 3.0) {
-        std::printf("learn%d box %d: plane %d (%zu px, rms %.1f mm) is %.1f deg from its labelled face (%zu px, %zu in common)\n",
-                    index, box, p.id, p.inliers.size(), 1000 * p.rms, f->normal_error_deg.back(), truth_of[a]->points.size(), best);
+        std::printf("learn%d box %d: face %d (%zu piece(s), %zu px) is %.1f deg from its labelled face (%zu px, %zu in common)\n",
+                    index, box, object_faces[a], pieces[object_faces[a]].size(), inliers.size(), f->normal_error_deg.back(),
+                    truth_of[a]->points.size(), best);
       }
     }
     // Faces mutually perpendicular, and the angles between them against those between their
     // labelled faces (cartons are not square to 5 deg: see below).
-    for (size_t a = 0; a < found->planes.size(); ++a) {
-      for (size_t b = a + 1; b < found->planes.size(); ++b) {
-        const DetectedPlane& pa = model.planes[found->planes[a]];
-        const DetectedPlane& pb = model.planes[found->planes[b]];
-        const double angle = NormalAngle(pa.plane, pb.plane) * kRadToDeg;
+    for (size_t a = 0; a < object_faces.size(); ++a) {
+      for (size_t b = a + 1; b < object_faces.size(); ++b) {
+        const int fa = object_faces[a], fb = object_faces[b];
+        const double angle = NormalAngle(model.FacePlane(fa), model.FacePlane(fb)) * kRadToDeg;
         f->perpendicular_error_deg.push_back(std::abs(angle - 90.0));
         double labelled = std::nan("");
         if (truth_of[a] != nullptr && truth_of[b] != nullptr && truth_of[a] != truth_of[b]) {
@@ -253,8 +261,8 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f) {
           f->unmatched_pairs++;
         }
         if (std::abs(angle - 90.0) > 3.0) {
-          std::printf("learn%d box %d: planes %d (%zu px, rms %.1f mm) and %d (%zu px, rms %.1f mm) at %.1f deg, their labelled faces at %.1f deg\n",
-                      index, box, pa.id, pa.inliers.size(), 1000 * pa.rms, pb.id, pb.inliers.size(), 1000 * pb.rms, angle, labelled);
+          std::printf("learn%d box %d: faces %d (%zu piece(s)) and %d (%zu piece(s)) at %.1f deg, their labelled faces at %.1f deg\n",
+                      index, box, fa, pieces[fa].size(), fb, pieces[fb].size(), angle, labelled);
         }
       }
     }
@@ -307,17 +315,16 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   // Issue 3 asks that every box showing its top and two sides be found, with its faces mutually
   // perpendicular within 5 deg. Which boxes show them is read from the labels (planes by RANSAC
   // through each box's labelled points), and a box counts as found only by an object holding a
-  // top and two sides of it. On these real scenes that holds for 12 of 13 boxes. learn13's front
+  // top and two sides of it. On these real scenes that holds for all 13 boxes. learn13's front
   // box is found since the search for thin strips looks again across pixels without depth: its
   // narrow left face (about 20 px wide, 62 deg from the view; 1418 labelled points on one plane
   // within 5 mm) showed as parts of 346 and 310 pixels 4 px apart, each under the 400 a plane
-  // needs; joined, they make a 768-pixel plane, 86 deg from the front. The miss: the lower of
-  // two stacked boxes, whose top shows only as two ledges 2-3 cm wide beside the upper box,
-  // fitted 4.2 and 6.9 deg off the labelled top, with its right side in two planes (1.0 and 6.6
-  // deg off, the second holding the rounded edge with the top), and its front meeting the left
-  // ledge along 5 mm of their line, under the 2 cm an edge needs (the ledge is narrower than
-  // d_thresh, so it has 43 band points beside the edge) (learn17, box 1: its two sides and the
-  // table make an object without the top).
+  // needs; joined, they make a 768-pixel plane, 86 deg from the front. The lower of two stacked
+  // boxes (learn17, box 1), whose top shows only as two ledges 2-3 cm wide beside the upper box
+  // (fitted 4.2 and 6.9 deg off the labelled top) and its right side as two planes 5.8 deg apart,
+  // is found since pieces of one face are fitted as one face (0.5 deg off the labelled top), and
+  // its corner may lie on an edge's line past its cut end (FacesInPieces..., below). Faces are
+  // judged as faces: a face in pieces is one face, its plane fitted to all its pieces.
   // The upper box there is found since thin strips no cell fits are searched for planes
   // (its right side, a diagonal strip 10-18 px wide) and since a plane is not merged with a
   // parallel one a step away (its left side and the lower box's, 1.7 cm apart). learn18's back
@@ -328,22 +335,22 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
   // points of the found boxes' faces are themselves up to 11 deg off 90 (learn18's back box,
   // whose right side is bent; learn13's small box, learn24's first and third 5.6-6.5 deg), so
   // each angle between two faces is checked against the angle between their labelled faces. All
-  // 33 pairs are within 5 deg of it (the worst 3.6 deg; 5.2 before strips took back their faces:
+  // 39 pairs are within 5 deg of it (the worst 3.6 deg; 5.2 before strips took back their faces:
   // learn17's upper box's left side held the left ledge's rows, next test). Complete dimensions
   // are within 1 cm of the labelled size (the labelled points' extent; for a box standing on the
   // table, its height is its top's above the table: learn2's labels stop 13 mm above the table,
   // where some 400 points on its faces' planes are unlabelled, and its height measured 10.2 mm
   // over the labelled extent is 2.8 mm under its top's height).
-  // What is asserted: the table, the boxes found so far, and that what is found is right: faces'
+  // What is asserted: the table, every box found, and that what is found is right: faces'
   // normals as close to the labelled faces' as the simulated frames' bound, 1 deg, at the
   // median; the angles between faces; every complete dimension within 1 cm (an occluded edge
   // once passed for a whole one, 22 cm short; learn18's bottom edge, ending in the front box's
   // shadow, 11 cm short):
   EXPECT_EQ(f.boxes_with_three_faces, 13);
-  ASSERT_GE(f.found, 12);
-  // The lowest, 0.79, is learn13's front box: its rounded vertical corner is two planes of its own
-  // (1033 and 1006 pixels, between the front and the narrow side) and its top's far part a third
-  // (766 pixels, 6.7 deg off the rest), none of them a face of the box; the others are 0.85-0.98.
+  EXPECT_EQ(f.found, 13);
+  // learn13's front box: its rounded vertical corner is two planes of its own (1033 and 1006
+  // pixels, between the front and the narrow side), not faces of the box (its top's far part,
+  // 766 pixels 6.7 deg off the rest, is a piece of its top).
   EXPECT_GE(*std::min_element(f.iou.begin(), f.iou.end()), 0.75);
   EXPECT_LE(median(f.normal_error_deg), 1.0) << "deg";
   EXPECT_EQ(f.unmatched_pairs, 0);
@@ -367,10 +374,10 @@ TEST(RealFrames, AStripTakesBackItsFaceAndAnEdgeEndsOnTheLedgeItStandsOn) {
   before.intersections.end_on_ending_plane = false;
   FrontendConfig no_end_on_plane;
   no_end_on_plane.intersections.end_on_ending_plane = false;
-  BoxFigures now, then, take_back_only;
-  EvaluateOsdScene(17, MakeFrontend(), &now);
-  EvaluateOsdScene(17, MakeFrontend(before), &then);
-  EvaluateOsdScene(17, MakeFrontend(no_end_on_plane), &take_back_only);
+  BoxFigures now, then, take_back_only;  // the upper box (box 2)
+  EvaluateOsdScene(17, MakeFrontend(), &now, 2);
+  EvaluateOsdScene(17, MakeFrontend(before), &then, 2);
+  EvaluateOsdScene(17, MakeFrontend(no_end_on_plane), &take_back_only, 2);
   ASSERT_EQ(now.found, 1);
   ASSERT_EQ(then.found, 1);
   ASSERT_EQ(take_back_only.found, 1);
@@ -405,8 +412,8 @@ TEST(RealFrames, EdgesEndWhereTheCameraSeesThemEnd) {
 }
 
 // learn17's lower box (box 1, labels 20-29): the object all of whose faces hold mostly its
-// points. Its top shows only as ledges, so it is not found with a top (see above), but its front,
-// its side and the table make an object.
+// points. Its top shows only as two ledges beside the upper box (one face in two pieces, as is
+// its right side: see FacesInPieces... below).
 const FrameObject* Learn17LowerBox(const FrameModel& model, const PcdFrame& pcd) {
   const FrameObject* lower = nullptr;
   for (const FrameObject& o : model.objects) {
@@ -456,6 +463,75 @@ TEST(RealFrames, ASideSplitAtItsRoundedCornerIsMeasuredAlongBothPieces) {
       EXPECT_GT(std::abs(lower->dimensions[0] - labelled), 0.03) << "m";
     }
   }
+}
+
+TEST(RealFrames, FacesInPiecesMakeTheLowerOfTwoStackedBoxesWithItsTopAndSides) {
+  // learn17's lower box: its top shows only as two ledges 2-3 cm wide on either side of the box
+  // standing on it (planes 8.8 deg apart, each tilted by its rounded rim), and its right side as
+  // two planes 5.8 deg apart. Each ledge meets the front along a piece of the front's top edge,
+  // and each side piece meets the table along a piece of one line: pieces of one face, fitted as
+  // one. The top meets the side only 15 cm behind the front (3 cm of edge, cut where the right
+  // ledge narrows under d_thresh), so the corner of front, top and side lies on that edge's line
+  // past its cut end. Before both, no object held the box's top (12 of 13 boxes found); with the
+  // corner rule alone, the right ledge is the top, 13.5 deg off, and the side's pieces two faces.
+  const PcdFrame pcd = LoadOrganizedPcd(SharedPath("data/osd_boxes_learn/pcd/learn17.pcd"), OpenNi());
+  FrontendConfig no_pieces, no_corner;
+  no_pieces.graph.face_piece_max_angle_deg = 0.0;
+  no_corner.graph.corner_past_cut_distance = 0.0;
+  BoxFigures with, without_pieces, without_corner;  // box 1, the lower box
+  EvaluateOsdScene(17, MakeFrontend(), &with, 1);
+  EvaluateOsdScene(17, MakeFrontend(no_pieces), &without_pieces, 1);
+  EvaluateOsdScene(17, MakeFrontend(no_corner), &without_corner, 1);
+  EXPECT_EQ(without_corner.found, 0);
+  ASSERT_EQ(without_pieces.found, 1);
+  EXPECT_GT(without_pieces.unmatched_pairs, 0);
+  EXPECT_GT(Worst(without_pieces.angle_error_deg), 5.0) << "deg";
+  ASSERT_EQ(with.found, 1);
+  EXPECT_GE(with.iou[0], 0.75);
+  EXPECT_EQ(with.unmatched_pairs, 0);
+  // Its faces (top and side each fitted to their pieces) against its labelled faces.
+  std::printf("learn17 lower box: IoU %.2f; faces vs labelled faces worst %.1f deg; angles between faces vs labelled worst %.1f deg\n",
+              with.iou[0], Worst(with.normal_error_deg), Worst(with.angle_error_deg));
+  EXPECT_LE(Worst(with.normal_error_deg), 3.0) << "deg";
+  EXPECT_LE(Worst(with.angle_error_deg), 5.0) << "deg";
+  // Each ledge on its own is farther from the labelled top than the two fitted together.
+  const FrameModel model = MakeFrontend().Process(*pcd.cloud);
+  const FrameObject* lower = Learn17LowerBox(model, pcd);
+  ASSERT_NE(lower, nullptr);
+  const Eigen::Vector3d up = lower->axes.col(2);
+  std::vector<int> top;
+  for (int p : lower->planes) {
+    if (std::abs(model.FacePlane(p).normal.dot(up)) > std::cos(15.0 / kRadToDeg)) top.push_back(p);
+  }
+  ASSERT_EQ(top.size(), 2u) << "the top's pieces";
+  EXPECT_EQ(model.FaceOf(top[0]), model.FaceOf(top[1]));
+  const std::vector<LabelledFace> labelled = LabelledFaces(*pcd.cloud, pcd.labels).at(1);
+  const auto labelled_top = std::find_if(labelled.begin(), labelled.end(), [&](const LabelledFace& f) {
+    return std::abs(f.plane.normal.dot(up)) > std::cos(15.0 / kRadToDeg);
+  });
+  ASSERT_NE(labelled_top, labelled.end());
+  const double joint = NormalAngle(model.FacePlane(top[0]), labelled_top->plane) * kRadToDeg;
+  for (int p : top) {
+    const double alone = NormalAngle(model.planes[p].plane, labelled_top->plane) * kRadToDeg;
+    std::printf("  ledge %d alone %.1f deg from the labelled top, the two fitted as one %.1f deg\n", p, alone, joint);
+    EXPECT_GT(alone, joint + 2.0) << "deg";
+  }
+}
+
+TEST(RealFrames, ARoundedCornerBesideAFaceIsNotAPieceOfIt) {
+  // learn20's right box: a strip along its rounded vertical corner, 9.6 deg from the side, meets
+  // the front beside the side's own edge with it (their stretches along the line overlap by
+  // 10 cm). Taken for a piece of the side, it turned the side's fitted plane 5.5 deg off its
+  // labelled face.
+  FrontendConfig across;
+  across.graph.face_piece_max_overlap = 1.0;
+  BoxFigures now, then;
+  EvaluateOsdScene(20, MakeFrontend(), &now, 2);
+  EvaluateOsdScene(20, MakeFrontend(across), &then, 2);
+  ASSERT_EQ(now.found, 1);
+  ASSERT_EQ(then.found, 1);
+  EXPECT_GT(Worst(then.normal_error_deg), 5.0) << "deg";
+  EXPECT_LE(Worst(now.normal_error_deg), 3.0) << "deg";
 }
 
 TEST(RealFrames, AFrontsLastPixelsThatNoPlaneTookMeasureItsWidthAsItsFringe) {

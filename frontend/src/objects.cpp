@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <utility>
 #include <vector>
@@ -207,13 +208,16 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
   const double axis_cos = std::cos(config.axis_tolerance_deg * kDegToRad);
   const double vertical_sin = std::sin(config.axis_tolerance_deg * kDegToRad);
   for (FrameObject& object : model->objects) {
-    // 1. Axes: z up, x the horizontal normal of the largest vertical face.
+    // 1. Axes: z up, x the horizontal normal of the largest vertical face (a face in pieces:
+    //    its plane fitted to them all, FindFaces, and its size theirs).
+    std::map<int, size_t> face_size;
+    for (int p : object.planes) face_size[model->FaceOf(p)] += model->planes[p].inliers.size();
     int largest = -1;
-    for (int p : object.planes) {
-      if (std::abs(model->planes[p].plane.normal.dot(up)) > vertical_sin) continue;
-      if (largest < 0 || model->planes[p].inliers.size() > model->planes[largest].inliers.size()) largest = p;
+    for (const auto& [f, size] : face_size) {
+      if (std::abs(model->FacePlane(f).normal.dot(up)) > vertical_sin) continue;
+      if (largest < 0 || size > face_size[largest]) largest = f;
     }
-    Eigen::Vector3d x = largest >= 0 ? model->planes[largest].plane.normal : up.unitOrthogonal();
+    Eigen::Vector3d x = largest >= 0 ? model->FacePlane(largest).normal : up.unitOrthogonal();
     x = (x - x.dot(up) * up).normalized();
     object.axes.col(0) = x;
     object.axes.col(1) = up.cross(x);
@@ -285,19 +289,19 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
     object.grasp_axis.setZero();
     object.height = ObjectHeight(cloud, *model, object, up);
     double best_facing = -1.0;
-    for (int p : object.planes) {
-      const DetectedPlane& face = model->planes[p];
-      if (std::abs(face.plane.normal.dot(up)) > vertical_sin) continue;
-      const int k = axis_of(face.plane.normal);
+    for (const auto& [p, size] : face_size) {
+      const Plane& face = model->FacePlane(p);
+      if (std::abs(face.normal.dot(up)) > vertical_sin) continue;
+      const int k = axis_of(face.normal);
       if (k < 0 || k == 2) continue;
       const double span = object.dimensions[k];
       if (span < config.hand_span_min || span > config.hand_span_max || object.height > config.grasp_max_height) continue;
       object.grasp_sides.push_back(p);
-      const double facing = face.plane.normal.dot(-face.centroid.normalized());
+      const double facing = face.normal.dot(-model->planes[p].centroid.normalized());
       if (facing > best_facing) {
         best_facing = facing;
         object.grasp_side = p;
-        object.grasp_axis = face.plane.normal;
+        object.grasp_axis = face.normal;
       }
     }
   }

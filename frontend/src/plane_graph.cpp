@@ -55,46 +55,154 @@ void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameMode
 
 void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
   FindStructure(cloud, config, model);
+  FindFaces(cloud, config, model);
   AggregateObjects(config, model);
+}
+
+void FindFaces(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
+  const std::vector<DetectedPlane>& planes = model->planes;
+  const int n = static_cast<int>(planes.size());
+  model->face_of.resize(n);
+  std::iota(model->face_of.begin(), model->face_of.end(), 0);
+  model->face_plane.clear();
+  for (const DetectedPlane& p : planes) model->face_plane.push_back(p.plane);
+  if (config.face_piece_max_angle_deg <= 0.0) return;
+  const double cos_max = std::cos(config.face_piece_max_angle_deg * M_PI / 180.0);
+  auto rms_to = [&](const Plane& plane, const std::vector<int>& inliers) {
+    double sum = 0.0;
+    for (int i : inliers) sum += std::pow(plane.SignedDistance(cloud[i].getVector3fMap().cast<double>()), 2);
+    return inliers.empty() ? 0.0 : std::sqrt(sum / inliers.size());
+  };
+  auto joint = [&](const std::vector<int>& members) {
+    std::vector<int> inliers;
+    for (int p : members) inliers.insert(inliers.end(), planes[p].inliers.begin(), planes[p].inliers.end());
+    std::sort(inliers.begin(), inliers.end());
+    return FitDetectedPlane(cloud, std::move(inliers)).plane;
+  };
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const PlaneEdge& ea : model->edges) {
+    for (const PlaneEdge& eb : model->edges) {
+      if (&eb <= &ea || ea.hidden || eb.hidden || ea.convex != eb.convex) continue;
+      // The plane both edges share, and the two pieces.
+      int c = -1, a = -1, b = -1;
+      for (int x : {ea.plane_a, ea.plane_b}) {
+        if (x == eb.plane_a || x == eb.plane_b) c = x;
+      }
+      if (c < 0) continue;
+      a = ea.plane_a == c ? ea.plane_b : ea.plane_a;
+      b = eb.plane_a == c ? eb.plane_b : eb.plane_a;
+      if (a == b || model->structure[a] || model->structure[b] || model->EdgeBetween(a, b) >= 0) continue;
+      if (std::abs(planes[a].plane.normal.dot(planes[b].plane.normal)) < cos_max ||
+          std::abs(ea.direction.dot(eb.direction)) < cos_max) {
+        continue;
+      }
+      // Side by side along the line, not one across from the other (a rounded corner between a
+      // face and the third plane meets the third plane beside the face's own edge): their
+      // stretches along the line overlap by at most face_piece_max_overlap. Concave edges may be
+      // two objects' standing on one plane: their pieces also leave at most face_piece_max_gap.
+      const PlaneEdge& longer = ea.length >= eb.length ? ea : eb;
+      auto stretch = [&](const PlaneEdge& e) {
+        const double s0 = longer.direction.dot(e.start - longer.start), s1 = longer.direction.dot(e.end - longer.start);
+        return std::make_pair(std::min(s0, s1), std::max(s0, s1));
+      };
+      const auto [lo_a, hi_a] = stretch(ea);
+      const auto [lo_b, hi_b] = stretch(eb);
+      const double overlap = std::min(hi_a, hi_b) - std::max(lo_a, lo_b);  // < 0: a gap
+      if (overlap > config.face_piece_max_overlap || (!ea.convex && -overlap > config.face_piece_max_gap)) continue;
+      const Plane both = joint({a, b});
+      const double rms_a = rms_to(both, planes[a].inliers), rms_b = rms_to(both, planes[b].inliers);
+      if (std::max(rms_a, rms_b) > config.face_piece_max_rms) continue;
+      parent[Find(parent, std::max(a, b))] = Find(parent, std::min(a, b));
+    }
+  }
+  std::vector<std::vector<int>> members(n);
+  for (int p = 0; p < n; ++p) members[Find(parent, p)].push_back(p);
+  for (int root = 0; root < n; ++root) {
+    if (members[root].size() < 2) continue;
+    const Plane face = joint(members[root]);
+    for (int p : members[root]) {
+      model->face_of[p] = members[root].front();
+      model->face_plane[p] = face;
+    }
+  }
 }
 
 void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   const std::vector<DetectedPlane>& planes = model->planes;
   const size_t n = planes.size();
 
-  // 1. Trihedral angles: 3-cycles of the graph whose three planes meet in a corner near all
-  //    three edges.
+  // 1. Trihedral angles: 3-cycles of the graph of faces (a plane, or the pieces of one face:
+  //    FindFaces) whose three faces meet in a corner near all three edges. Between two faces in
+  //    pieces there may be several edges; the angle takes the one nearest its corner.
   std::vector<std::vector<int>> adjacent(n);
-  for (const PlaneEdge& e : model->edges) {
-    adjacent[e.plane_a].push_back(e.plane_b);
-    adjacent[e.plane_b].push_back(e.plane_a);
+  std::vector<std::vector<std::vector<int>>> edges_between(n);  // [face][k]: edges to adjacent[face][k]
+  auto face = [&](int p) { return model->FaceOf(p); };
+  for (size_t e = 0; e < model->edges.size(); ++e) {
+    const int a = face(model->edges[e].plane_a), b = face(model->edges[e].plane_b);
+    if (a == b) continue;
+    for (const auto& [x, y] : {std::pair<int, int>{a, b}, std::pair<int, int>{b, a}}) {
+      const size_t k = std::find(adjacent[x].begin(), adjacent[x].end(), y) - adjacent[x].begin();
+      if (k == adjacent[x].size()) {
+        adjacent[x].push_back(y);
+        edges_between[x].emplace_back();
+      }
+      edges_between[x][k].push_back(static_cast<int>(e));
+    }
   }
+  auto edges_of = [&](int x, int y) -> const std::vector<int>& {
+    return edges_between[x][std::find(adjacent[x].begin(), adjacent[x].end(), y) - adjacent[x].begin()];
+  };
   model->angles.clear();
   for (int a = 0; a < static_cast<int>(n); ++a) {
     for (int b : adjacent[a]) {
       if (b <= a) continue;
       for (int c : adjacent[b]) {
         if (c <= b || std::find(adjacent[a].begin(), adjacent[a].end(), c) == adjacent[a].end()) continue;
+        const Plane &pa = model->FacePlane(a), &pb = model->FacePlane(b), &pc = model->FacePlane(c);
         Eigen::Matrix3d N;
-        N << planes[a].plane.normal.transpose(), planes[b].plane.normal.transpose(), planes[c].plane.normal.transpose();
+        N << pa.normal.transpose(), pb.normal.transpose(), pc.normal.transpose();
         if (std::abs(N.determinant()) < config.corner_min_determinant) continue;
         TrihedralAngle angle;
         angle.planes = {a, b, c};
-        angle.edges = {model->EdgeBetween(a, b), model->EdgeBetween(a, c), model->EdgeBetween(b, c)};
-        angle.corner = N.partialPivLu().solve(
-            -Eigen::Vector3d(planes[a].plane.offset, planes[b].plane.offset, planes[c].plane.offset));
+        angle.corner = N.partialPivLu().solve(-Eigen::Vector3d(pa.offset, pb.offset, pc.offset));
+        const std::array<std::pair<int, int>, 3> pairs{{{a, b}, {a, c}, {b, c}}};
+        for (int k = 0; k < 3; ++k) {
+          const std::vector<int>& candidates = edges_of(pairs[k].first, pairs[k].second);
+          angle.edges[k] = *std::min_element(candidates.begin(), candidates.end(), [&](int x, int y) {
+            return DistanceToSegment(angle.corner, model->edges[x]) < DistanceToSegment(angle.corner, model->edges[y]);
+          });
+        }
         // A hidden edge (at most one) was inferred from the corners it starts or ends at, with
         // the other two edges' ends cut short of them by the occluder: the angle is one of them.
         const int hidden = static_cast<int>(std::count_if(angle.edges.begin(), angle.edges.end(),
                                                           [&](int e) { return model->edges[e].hidden; }));
+        // One seen edge may reach the corner only on its line, beyond an end of it that is cut
+        // (the edge may go on past it): a ledge narrower than d_thresh beside the face it meets
+        // has no band points there. The other two then end at the corner: each has a whole end
+        // within corner_snap_distance of it.
         bool near = hidden <= 1;
+        int extended = 0;
+        auto ends_at_corner = [&](const PlaneEdge& edge) {
+          return (!edge.start_cut && (edge.start - angle.corner).norm() < config.corner_snap_distance) ||
+                 (!edge.end_cut && (edge.end - angle.corner).norm() < config.corner_snap_distance);
+        };
         for (int e : angle.edges) {
           const PlaneEdge& edge = model->edges[e];
           if (edge.hidden) {
             const double end = edge.end_cut ? 1e9 : (edge.end - angle.corner).norm();
             near = near && std::min((edge.start - angle.corner).norm(), end) < config.corner_snap_distance;
-          } else if (hidden == 0) {
-            near = near && DistanceToSegment(angle.corner, edge) < config.corner_max_distance;
+          } else if (hidden == 0 && DistanceToSegment(angle.corner, edge) >= config.corner_max_distance) {
+            const double s = (angle.corner - edge.start).dot(edge.direction);
+            const bool beyond_cut = (s < 0.0 && edge.start_cut && -s < config.corner_past_cut_distance) ||
+                                    (s > edge.length && edge.end_cut && s - edge.length < config.corner_past_cut_distance);
+            const bool on_line = (angle.corner - edge.start - s * edge.direction).norm() < config.corner_snap_distance;
+            near = near && beyond_cut && on_line && ++extended == 1;
+          }
+        }
+        for (int e : angle.edges) {
+          if (near && extended == 1 && DistanceToSegment(angle.corner, model->edges[e]) < config.corner_max_distance) {
+            near = ends_at_corner(model->edges[e]);  // one of the two others
           }
         }
         if (near) model->angles.push_back(angle);
@@ -106,8 +214,14 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   // (the farthest of many noisy points). The end nearer the corner moves to the corner's
   // projection on the edge's line, and is not cut, when that end is within corner_snap_distance
   // of it (a corner farther inside is where another object meets this edge, not its end).
+  // Every edge between two of the angle's faces (a face in pieces may meet another in several).
   for (const TrihedralAngle& angle : model->angles) {
-    for (int e : angle.edges) {
+    std::vector<int> between;
+    for (const auto& [x, y] : {std::pair<int, int>{0, 1}, {0, 2}, {1, 2}}) {
+      const std::vector<int>& e = edges_of(angle.planes[x], angle.planes[y]);
+      between.insert(between.end(), e.begin(), e.end());
+    }
+    for (int e : between) {
       PlaneEdge& edge = model->edges[e];
       const double s = (angle.corner - edge.start).dot(edge.direction);
       if (std::min(std::abs(s), std::abs(s - edge.length)) > config.corner_snap_distance) continue;
@@ -135,7 +249,7 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   const double sin_tilt = std::sin(config.resting_max_tilt_deg * M_PI / 180.0);
   auto resting = [&](const PlaneEdge& edge) {
     if (edge.convex || model->structure[edge.plane_a] || model->structure[edge.plane_b]) return false;
-    const double ca = planes[edge.plane_a].plane.normal.dot(up), cb = planes[edge.plane_b].plane.normal.dot(up);
+    const double ca = model->FacePlane(edge.plane_a).normal.dot(up), cb = model->FacePlane(edge.plane_b).normal.dot(up);
     return (ca > cos_tilt && std::abs(cb) < sin_tilt) || (cb > cos_tilt && std::abs(ca) < sin_tilt);
   };
   std::vector<bool> object_angle(m, true);
@@ -161,8 +275,12 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
         const bool with_structure = model->structure[edge.plane_a] || model->structure[edge.plane_b];
         if (with_structure && inner[i] != inner[j]) continue;
         if (model->structure[edge.plane_a] && model->structure[edge.plane_b]) continue;
-        const auto& other = model->angles[j].edges;
-        if (std::find(other.begin(), other.end(), e) != other.end()) parent[Find(parent, i)] = Find(parent, j);
+        // The same two faces (pieces of a face may meet the other face in several edges).
+        const auto& other = model->angles[j].planes;
+        if (std::count(other.begin(), other.end(), face(edge.plane_a)) > 0 &&
+            std::count(other.begin(), other.end(), face(edge.plane_b)) > 0) {
+          parent[Find(parent, i)] = Find(parent, j);
+        }
       }
     }
   }
@@ -180,8 +298,10 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
   for (FrameObject& object : model->objects) {
     std::set<int> faces;
     for (int a : object.angles) {
-      for (int p : model->angles[a].planes) {
-        if (!model->structure[p]) faces.insert(p);
+      for (int f : model->angles[a].planes) {
+        for (int p = 0; p < static_cast<int>(n); ++p) {
+          if (face(p) == f && !model->structure[p]) faces.insert(p);  // every piece of the face
+        }
       }
     }
     object.planes.assign(faces.begin(), faces.end());

@@ -1,5 +1,6 @@
 #include "planemap/io/frame_model_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -44,6 +45,15 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
                            {"centroid", Vec(p.centroid)}, {"inliers", p.inliers.size()}, {"rms", p.rms},
                            {"strip", p.strip},
                            {"structure", p.id < static_cast<int>(model.structure.size()) && model.structure[p.id]}});
+    // A piece of a face in pieces (FrameModel::face_of): the face (its lowest-id piece) and the
+    // plane fitted to all its pieces.
+    const bool known = p.id < static_cast<int>(model.face_of.size());
+    const int face = known ? model.face_of[p.id] : p.id;
+    j["planes"].back()["face"] = face;
+    if (known && std::count(model.face_of.begin(), model.face_of.end(), face) > 1) {
+      j["planes"].back()["face_normal"] = Vec(model.face_plane[p.id].normal);
+      j["planes"].back()["face_offset"] = model.face_plane[p.id].offset;
+    }
   }
   j["edges"] = json::array();
   for (const PlaneEdge& e : model.edges) {

@@ -36,14 +36,15 @@ struct PlaneEdge {
 
 // A corner: three planes that meet pairwise (a 3-cycle of the plane graph).
 struct TrihedralAngle {
-  std::array<int, 3> planes{};  // plane ids, increasing
+  std::array<int, 3> planes{};  // plane ids of its faces (a face in pieces: its lowest-id piece), increasing
   std::array<int, 3> edges{};   // indices into FrameModel::edges: (p0,p1), (p0,p2), (p1,p2)
   Eigen::Vector3d corner = Eigen::Vector3d::Zero();  // the point on all three planes [m]
 };
 
 // Trihedral angles that share graph edges, aggregated angle by angle: one plane-based object.
 struct FrameObject {
-  std::vector<int> planes;  // plane ids of the object's faces (never the floor or other structure)
+  std::vector<int> planes;  // plane ids of the object's faces, every piece of a face in pieces
+                            // (never the floor or other structure)
   std::vector<int> angles;  // indices into FrameModel::angles
   std::string label = "unknown";  // class from the graph patterns
 
@@ -57,7 +58,8 @@ struct FrameObject {
   // and a class that depends on it is decided rather than guessed.
   bool height_known = false;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();      // eq. (7), mean over the angles [m]
-  std::vector<int> grasp_sides;  // plane ids of faces a two-handed grasp could hold
+  std::vector<int> grasp_sides;  // plane ids of faces a two-handed grasp could hold (a face in
+                                 // pieces: its lowest-id piece; its axis the face's plane's)
   int grasp_side = -1;           // the chosen one (most facing the camera), -1 if none
   Eigen::Vector3d grasp_axis = Eigen::Vector3d::Zero();  // its normal (toward the camera)
 };
@@ -70,6 +72,15 @@ struct FrameModel {
   int floor = -1;                 // plane id of the floor, -1 if not seen
   std::vector<bool> structure;    // per plane: floor, walls and other room-sized planes
   std::string reason;  // why the model is empty or partial; empty when all is well
+  // Faces in pieces (FindFaces): per plane, the plane standing for its face (the lowest id of
+  // the face's pieces, its own id when it is a face alone), and the face's plane fitted to all
+  // its pieces' inliers. Empty: every plane is a face of its own.
+  std::vector<int> face_of;
+  std::vector<Plane> face_plane;
+  int FaceOf(int plane) const { return plane < static_cast<int>(face_of.size()) ? face_of[plane] : plane; }
+  const Plane& FacePlane(int plane) const {
+    return plane < static_cast<int>(face_plane.size()) ? face_plane[plane] : planes[plane].plane;
+  }
 
   // Index into `edges` of the edge between two planes, or -1.
   int EdgeBetween(int a, int b) const;

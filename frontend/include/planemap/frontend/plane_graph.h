@@ -28,6 +28,25 @@ struct PlaneGraphConfig {
                                         // to sharing a line for a stable corner
   double resting_max_tilt_deg = 30.0;   // a top and a face within this of horizontal and vertical
                                         // meeting in a concave edge: one object rests on another [deg]
+  // One seen edge of a trihedral angle may reach the corner only along its line (within
+  // corner_snap_distance of it), up to corner_past_cut_distance past an end of it that is cut,
+  // when the other two end at the corner (a whole end of each within corner_snap_distance of
+  // it): a ledge narrower than d_thresh has no band points beside the face it meets. 0: off. [m]
+  double corner_past_cut_distance = 0.3;
+  // Faces in pieces (FindFaces): two planes, neither structure nor meeting each other, within
+  // face_piece_max_angle_deg of each other, that each meet a third plane in seen edges of one
+  // kind (both convex or both concave) within that angle of each other, and whose
+  // inliers lie within face_piece_max_rms (RMS, each piece's) of the plane fitted to both, are
+  // pieces of one face: a box's top showing as two ledges beside a box standing on it, a side
+  // in two planes. They must meet the third side by side: their edges' stretches along its line
+  // overlap by at most face_piece_max_overlap (a rounded corner between a face and the third
+  // plane meets the third right beside the face's own edge, across from it, not beside it); and
+  // where the edges are concave (the pieces may be two objects standing on the third) they leave
+  // a gap of at most face_piece_max_gap. 0 deg: off. [deg], [m], [m], [m]
+  double face_piece_max_angle_deg = 10.0;
+  double face_piece_max_rms = 0.005;
+  double face_piece_max_overlap = 0.01;
+  double face_piece_max_gap = 0.02;
 
   std::string CrossCheck() const {
     if (up_in_camera.size() != 3) return "up_in_camera needs 3 numbers";
@@ -46,6 +65,11 @@ struct PlaneGraphConfig {
     v("corner_snap_distance", corner_snap_distance, Check::kNonNegative);
     v("corner_min_determinant", corner_min_determinant, Check::kProbability);
     v("resting_max_tilt_deg", resting_max_tilt_deg, Check::kPositive);
+    v("corner_past_cut_distance", corner_past_cut_distance, Check::kNonNegative);
+    v("face_piece_max_angle_deg", face_piece_max_angle_deg, Check::kNonNegative);
+    v("face_piece_max_rms", face_piece_max_rms, Check::kNonNegative);
+    v("face_piece_max_overlap", face_piece_max_overlap, Check::kNonNegative);
+    v("face_piece_max_gap", face_piece_max_gap, Check::kNonNegative);
   }
 };
 
@@ -54,6 +78,11 @@ Eigen::Vector3d UpPrior(const PlaneGraphConfig& config);
 
 // Fills model->floor and model->structure from its planes (their inliers index into `cloud`).
 void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
+
+// Fills model->face_of and model->face_plane: planes that are pieces of one face (see
+// PlaneGraphConfig::face_piece_*), each face's plane fitted to all its pieces' inliers. Needs the
+// planes, edges and structure.
+void FindFaces(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
 
 // Fills model->angles and model->objects from its planes, edges, floor and structure: the
 // trihedral angles, aggregated into objects angle by angle. Needs no points, so a map's graph
