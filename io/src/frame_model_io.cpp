@@ -51,8 +51,8 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
     const int face = known ? model.face_of[p.id] : p.id;
     j["planes"].back()["face"] = face;
     if (known && std::count(model.face_of.begin(), model.face_of.end(), face) > 1) {
-      j["planes"].back()["face_normal"] = Vec(model.face_plane[p.id].normal);
-      j["planes"].back()["face_offset"] = model.face_plane[p.id].offset;
+      j["planes"].back()["face_normal"] = Vec(model.FacePlane(p.id).normal);
+      j["planes"].back()["face_offset"] = model.FacePlane(p.id).offset;
     }
   }
   j["edges"] = json::array();
