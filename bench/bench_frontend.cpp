@@ -225,7 +225,8 @@ const Stages& SharedStages() {
   return stages;
 }
 
-// Times `stage` on each frame's model as the stages before left it (copied untimed).
+// Times `stage(cloud, &model)` on each frame's model as the stages before left it (copied
+// untimed).
 template <typename Stage>
 void RunStage(benchmark::State& state, FrameModel Staged::*input, Stage stage) {
   const Frames& data = Shared();
@@ -236,25 +237,20 @@ void RunStage(benchmark::State& state, FrameModel Staged::*input, Stage stage) {
     state.PauseTiming();
     FrameModel model = stages.frames[f].*input;
     state.ResumeTiming();
-    (stages.frontend.*stage)(*data.frames[f].cloud, &model);
+    stage(*data.frames[f].cloud, &model);
     benchmark::DoNotOptimize(model.planes.data());
   }
 }
-void BM_StageIntersections(benchmark::State& state) { RunStage(state, &Staged::segmented, &Frontend::FindEdges); }
-void BM_StageObjects(benchmark::State& state) { RunStage(state, &Staged::intersected, &Frontend::FindObjects); }
+void BM_StageIntersections(benchmark::State& state) {
+  RunStage(state, &Staged::segmented, [](const Cloud& cloud, FrameModel* model) { SharedStages().frontend.FindEdges(cloud, model); });
+}
+void BM_StageObjects(benchmark::State& state) {
+  RunStage(state, &Staged::intersected, [](const Cloud& cloud, FrameModel* model) { SharedStages().frontend.FindObjects(cloud, model); });
+}
 // Within FindObjects: the faces in pieces alone (FindFaces, PlaneGraphConfig::face_piece_*).
 void BM_StageFaces(benchmark::State& state) {
-  const Frames& data = Shared();
-  const Stages& stages = SharedStages();
-  size_t k = 0;
-  for (auto _ : state) {
-    const size_t f = k++ % data.frames.size();
-    state.PauseTiming();
-    FrameModel model = stages.frames[f].intersected;
-    state.ResumeTiming();
-    FindFaces(*data.frames[f].cloud, FrontendConfig{}.graph, &model);
-    benchmark::DoNotOptimize(model.face_of.data());
-  }
+  const PlaneGraphConfig config = FrontendConfig{}.graph;
+  RunStage(state, &Staged::intersected, [&](const Cloud& cloud, FrameModel* model) { FindFaces(cloud, config, model); });
 }
 
 // Without the segmenter's search for thin strips (organized.leftover_hypotheses: 0).
