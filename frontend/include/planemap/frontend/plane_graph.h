@@ -89,7 +89,7 @@ void FindFaces(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* m
 // (landmarks and merged edges) is aggregated the same way (Fig. 4).
 void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model);
 
-// FindStructure, then AggregateObjects.
+// FindStructure, FindFaces, then AggregateObjects.
 void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model);
 
 }  // namespace planemap
