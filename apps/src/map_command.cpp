@@ -87,7 +87,7 @@ int RunMap(const MapOptions& options) {
   smoothed << "# planemap map " << options.sequence << ": T_world_camera (sliding window of " << config.backend.window_size
            << " frames, as given live), world = " << world << "\n# timestamp tx ty tz qx qy qz qw\n";
   SlidingWindow window(config.backend);
-  log << "frame,stamp,status,planes,matched,inliers,added,refined,frontend_ms,tracking_ms,reason\n";
+  log << "frame,stamp,status,planes,matched,inliers,added,refined,frontend_ms,tracking_ms,window_ms,reason\n";
 
   const size_t frames = options.max_frames < 0 ? sequence.size() : std::min(sequence.size(), static_cast<size_t>(options.max_frames));
   int counts[3] = {0, 0, 0}, unreadable = 0;
@@ -126,7 +126,7 @@ int RunMap(const MapOptions& options) {
     std::replace(reason.begin(), reason.end(), ',', ';');
     log << i << ',' << FormatStamp(frame.stamp) << ',' << ToString(r.status) << ',' << r.planes << ',' << r.matched << ','
         << r.inliers << ',' << r.added << ',' << r.refined << ',' << frontend_ms.back() << ',' << tracking_ms.back() << ','
-        << reason << "\n" << std::flush;
+        << window_ms.back() << ',' << reason << "\n" << std::flush;
     std::fprintf(stderr, "\rframe %zu/%zu: %s, %d planes, %d matched, map %zu planes %zu objects   ", i + 1, frames,
                  ToString(r.status), r.planes, r.matched, tracker.map().landmarks.size(), tracker.map().objects.size());
   }
