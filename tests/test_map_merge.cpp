@@ -161,6 +161,55 @@ TEST(MapMerge, AnObjectTheGraphDoesNotFormIsKeptOnceWithBothMapsEvidence) {
   EXPECT_EQ(r.map.objects.size(), 2u);  // and the box rebuilt from the graph
 }
 
+// An upright box seen whole (centre, axes, dimensions), for the object tests below.
+MapObject Box(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& dimensions, double yaw_deg, int views) {
+  MapObject o;
+  o.id = id;
+  o.label = "box";
+  o.axes = Eigen::AngleAxisd(yaw_deg / kRadToDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  o.dimensions = dimensions;
+  o.dimension_complete = {true, true, true};
+  o.complete_count = {views, views, views};
+  o.complete_sum = views * dimensions;
+  o.center = centre;
+  o.center_count = o.partial_center_count = o.observations = views;
+  o.center_sum = o.partial_center_sum = views * centre;
+  o.label_votes = {{"box", views}};
+  return o;
+}
+
+TEST(CuboidOverlap, AQuarterTurnAShiftAndNeighbours) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d quarter = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d box(0.4, 0.2, 0.3), c(1.0, 2.0, 0.15);
+  // The same box, its axes a quarter turn apart (x and y swapped): all of it.
+  EXPECT_NEAR(CuboidOverlap(c, I, box, c, quarter, Eigen::Vector3d(0.2, 0.4, 0.3)), 1.0, 1e-12);
+  // Shifted by a quarter of its length: three quarters.
+  EXPECT_NEAR(CuboidOverlap(c, I, box, c + Eigen::Vector3d(0.1, 0, 0), I, box), 0.75, 1e-12);
+  // A partial view (half its length, lower bound) inside it: all of the smaller.
+  EXPECT_NEAR(CuboidOverlap(c, I, box, c - Eigen::Vector3d(0.1, 0, 0), I, Eigen::Vector3d(0.2, 0.2, 0.3)), 1.0, 1e-12);
+  // A neighbour standing against it: nothing.
+  EXPECT_NEAR(CuboidOverlap(c, I, box, c + Eigen::Vector3d(0.4, 0, 0), I, box), 0.0, 1e-12);
+}
+
+TEST(MapMerge, ABoxMappedTwiceIsFoldedNeighboursAreNot) {
+  PlaneMap map;
+  map.objects = {Box(0, {1.0, 2.0, 0.15}, {0.4, 0.2, 0.3}, 0.0, 10),
+                 Box(1, {1.03, 2.01, 0.15}, {0.2, 0.4, 0.3}, 90.5, 5),  // the same box, axes named the other way
+                 Box(2, {1.45, 2.0, 0.15}, {0.4, 0.2, 0.3}, 0.0, 8)};    // its neighbour, 5 cm apart
+  EXPECT_EQ(FuseDuplicateObjects(MapMergeConfig{}, &map), 1);
+  ASSERT_EQ(map.objects.size(), 2u);
+  const MapObject& box = map.objects[0];
+  EXPECT_EQ(box.observations, 15);
+  EXPECT_EQ(box.id, 0);
+  EXPECT_EQ(map.objects[1].id, 1);
+  // Centre: the mean of the 15 views; dimensions along its own axes.
+  EXPECT_NEAR(100 * box.center.x(), 101.0, 0.01) << "cm";
+  EXPECT_NEAR(100 * box.dimensions.x(), 40.0, 0.01) << "cm";
+  EXPECT_NEAR(100 * box.dimensions.y(), 20.0, 0.01) << "cm";
+  EXPECT_NEAR(100 * map.objects[1].center.x(), 145.0, 1e-9) << "cm";
+}
+
 TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
   PlaneMap map = SyntheticRoom();
   RebuildObjects(Objects(), 0.25, &map);

@@ -36,7 +36,7 @@ Trajectory WalkTruth(std::vector<double> waypoints) {
 }
 
 TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first,
-                     std::size_t last, const Pose3& T_run_world, const BackendConfig& backend) {
+                     std::size_t last, const Pose3& T_run_world, const BackendConfig& backend, std::size_t stride) {
   sim::RenderConfig render;
   render.seed = seed;
   const sim::VirtualCamera camera(scene, XtionCamera(), render);
@@ -45,10 +45,10 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
   const Trajectory truth = WalkTruth(std::move(waypoints));
   last = std::min(last, truth.size());
   if (first >= last) return run;
-  run.truth.assign(truth.begin() + first, truth.begin() + last);
-  Tracker tracker(TrackingConfig{}, T_run_world * truth[first].T_world_camera);
+  for (size_t k = first; k < last; k += stride) run.truth.push_back(truth[k]);
+  Tracker tracker(TrackingConfig{}, T_run_world * truth[first].T_world_camera, XtionCamera());
   SlidingWindow window(backend);
-  for (size_t k = first; k < last; ++k) {
+  for (size_t k = first; k < last; k += stride) {
     sim::RenderedFrame rendered = camera.Render(truth[k].T_world_camera, camera.FrameSeed(static_cast<int>(k)));
     RgbdFrame frame;
     frame.depth = std::move(rendered.depth);
@@ -66,6 +66,7 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
                   RotationAngle(e.linear()) * 57.3, 1000 * p.translation().norm(), RotationAngle(p.linear()) * 57.3, r.reason.c_str());
     }
     run.status.push_back(r.status);
+    run.relocalized.push_back(r.relocalized);
   }
   run.map = tracker.map();
   run.observations = tracker.observations();

@@ -20,6 +20,7 @@ struct TrackedRun {
   Trajectory truth, estimate;  // frames [first, last) of the walk; the estimate in the run's world
   Trajectory smoothed;         // the sliding window's pose of each frame, as it was given live
   std::vector<TrackStatus> status;
+  std::vector<bool> relocalized;  // per frame: its pose was found without the prediction
   PlaneMap map;
   std::vector<FrameObservations> observations;  // the tracker's, for the batch back end
 };
@@ -47,9 +48,11 @@ std::string SceneStem(const SceneWalk& walk);
 // The true camera poses of such a walk through `waypoints` (5 Hz), as TrackWalk renders them.
 Trajectory WalkTruth(std::vector<double> waypoints);
 
+// Every `stride`-th frame from `first` on is tracked (1: all).
 TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std::uint64_t seed, std::size_t first = 0,
                      std::size_t last = std::numeric_limits<std::size_t>::max(),
-                     const Pose3& T_run_world = Pose3::Identity(), const BackendConfig& backend = BackendConfig{});
+                     const Pose3& T_run_world = Pose3::Identity(), const BackendConfig& backend = BackendConfig{},
+                     std::size_t stride = 1);
 
 
 }  // namespace planemap::testing

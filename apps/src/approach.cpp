@@ -228,7 +228,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   nav::OdometryCalibration odometry(config.odometry_calibration);
   // The robot knows where it starts (the paper: from the first frames; here the world is the
   // scene's, as `planemap map` anchors a sequence with ground truth).
-  Tracker tracker(config.tracking, robot.CameraPose());
+  Tracker tracker(config.tracking, robot.CameraPose(), camera);
   SlidingWindow window(config.backend);
   nav::Mission mission(static_cast<nav::Scenario>(options.scenario), config.mission, config.planner, config.grasp, &robot);
   nav::Search search(config.search, config.mission, config.planner, config.grasp, &robot);

@@ -72,7 +72,7 @@ int RunMap(const MapOptions& options) {
   }
   const bool anchored = options.anchor != "first" && first_truth.has_value();
   if (anchored) T_world_first = *first_truth;
-  Tracker tracker(config.tracking, T_world_first);
+  Tracker tracker(config.tracking, T_world_first, camera);
 
   std::error_code ec;
   fs::create_directories(options.out, ec);
@@ -171,6 +171,8 @@ int RunMap(const MapOptions& options) {
   }
   // Surfaces the tracker added twice (seen again from too far off to match) folded into one.
   const int fused = FuseDuplicateLandmarks(config.merge, &map);
+  // ... and boxes mapped twice (views that did not match the first map object) into one.
+  const int fused_objects = FuseDuplicateObjects(config.merge, &map);
   {
     std::ofstream json(out / "map.json");
     json << PlaneMapJson(map) << "\n";
@@ -182,8 +184,8 @@ int RunMap(const MapOptions& options) {
   // xyz floats): the paper's argument for planes.
   const int tracked_frames = counts[0] + counts[1] + counts[2];
   say(Printf("frames %d: tracked %d, degraded %d, lost %d, unreadable %d", tracked_frames, counts[0], counts[1], counts[2], unreadable));
-  say(Printf("map: %zu planes (%d duplicates fused), %zu edges, %zu objects, %zu keyframes, %.1f kB (a point cloud of the same frames: %.1f MB)",
-             map.landmarks.size(), fused, map.edges.size(), map.objects.size(), map.keyframes.size(), map.MemoryBytes() / 1024.0,
+  say(Printf("map: %zu planes (%d duplicates fused), %zu edges, %zu objects (%d duplicates fused), %zu keyframes, %.1f kB (a point cloud of the same frames: %.1f MB)",
+             map.landmarks.size(), fused, map.edges.size(), map.objects.size(), fused_objects, map.keyframes.size(), map.MemoryBytes() / 1024.0,
              cloud_points * 3 * sizeof(float) / (1024.0 * 1024.0)));
   for (const MapObject& o : map.objects) {
     say(Printf("  object %d: %s, %.3f x %.3f x %.3f m%s, centre (%.3f, %.3f, %.3f), seen %d times", o.id, o.label.c_str(),

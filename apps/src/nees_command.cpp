@@ -34,7 +34,7 @@ std::vector<ConsistencyRun> OneRun(const sim::Scene& scene, const CameraIntrinsi
   AppConfig config = base;
   config.render.seed = seed;
   const sim::VirtualCamera virtual_camera(scene, camera, config.render);
-  Tracker tracker(config.tracking, walk.front().T_world_camera);  // the world is the scene's
+  Tracker tracker(config.tracking, walk.front().T_world_camera, camera);  // the world is the scene's
   for (size_t k = 0; k < walk.size(); ++k) {
     sim::RenderedFrame rendered = virtual_camera.Render(walk[k].T_world_camera, virtual_camera.FrameSeed(static_cast<int>(k)));
     RgbdFrame frame;

@@ -62,4 +62,22 @@ void TransformMap(const Pose3& T, PlaneMap* map) {
   for (Keyframe& k : map->keyframes) k.T_world_camera = T * k.T_world_camera;
 }
 
+double CuboidOverlap(const Eigen::Vector3d& center_a, const Eigen::Matrix3d& axes_a, const Eigen::Vector3d& dimensions_a,
+                     const Eigen::Vector3d& center_b, const Eigen::Matrix3d& axes_b, const Eigen::Vector3d& dimensions_b,
+                     double min_dimension) {
+  const Eigen::Vector3d half_a = 0.5 * dimensions_a.cwiseMax(min_dimension);
+  const Eigen::Vector3d half_b_own = 0.5 * dimensions_b.cwiseMax(min_dimension);
+  // b's extent along a's axes: |R| half_b, R = axes_a^T axes_b (its box in a's frame).
+  const Eigen::Matrix3d R = axes_a.transpose() * axes_b;
+  const Eigen::Vector3d half_b = R.cwiseAbs() * half_b_own;
+  const Eigen::Vector3d offset = axes_a.transpose() * (center_b - center_a);
+  double intersection = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    const double low = std::max(-half_a[k], offset[k] - half_b[k]), high = std::min(half_a[k], offset[k] + half_b[k]);
+    intersection *= std::max(0.0, high - low);
+  }
+  const double smaller = std::min(8.0 * half_a.prod(), 8.0 * half_b_own.prod());
+  return std::clamp(intersection / smaller, 0.0, 1.0);
+}
+
 }  // namespace planemap

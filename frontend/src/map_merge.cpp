@@ -188,6 +188,50 @@ int FuseDuplicateLandmarks(const MapMergeConfig& config, PlaneMap* map) {
   return n - next;
 }
 
+int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map) {
+  ValidateConfig(config, "merge.");
+  std::vector<MapObject> kept;
+  int folded = 0;
+  for (const MapObject& o : map->objects) {
+    auto same = std::find_if(kept.begin(), kept.end(), [&](const MapObject& k) {
+      return CuboidOverlap(k.center, k.axes, k.dimensions, o.center, o.axes, o.dimensions) >= config.fuse_object_overlap;
+    });
+    if (same == kept.end()) {
+      kept.push_back(o);
+      kept.back().id = static_cast<int>(kept.size()) - 1;
+      continue;
+    }
+    ++folded;
+    MapObject& into = *same;
+    const Eigen::Vector3d bounds = into.dimensions;
+    Absorb(o, &into);
+    std::set<int> faces(into.landmarks.begin(), into.landmarks.end());
+    faces.insert(o.landmarks.begin(), o.landmarks.end());
+    into.landmarks.assign(faces.begin(), faces.end());
+    // Dimensions: the mean of the complete views, else the longer lower bound of the two.
+    for (int j = 0; j < 3; ++j) {
+      const int k = AxisOf(into.axes, o.axes.col(j));
+      if (into.complete_count[k] > 0) {
+        into.dimensions[k] = into.complete_sum[k] / into.complete_count[k];
+        into.dimension_complete[k] = true;
+      } else {
+        into.dimensions[k] = std::max(bounds[k], o.dimensions[j]);
+      }
+    }
+    into.center = into.center_count > 0 ? Eigen::Vector3d(into.center_sum / into.center_count)
+                                        : Eigen::Vector3d(into.partial_center_sum / std::max(1, into.partial_center_count));
+    if (!into.label_votes.empty()) into.label = Winner(into.label_votes);
+    if (!into.grasp_votes.empty()) {
+      into.grasp_landmark = Winner(into.grasp_votes);
+      into.has_grasp_axis = true;
+      into.grasp_axis = map->landmarks[into.grasp_landmark].plane.normal;
+    }
+    into.uncertainty = MapObject::Uncertainty{};  // of neither object any more
+  }
+  map->objects = std::move(kept);
+  return folded;
+}
+
 void RebuildObjects(const ObjectModel& model, double object_match_distance, PlaneMap* map) {
   Cloud cloud;
   FrameModel graph = MapGraph(*map, model.graph, &cloud);

@@ -204,14 +204,27 @@ void ClassifyObjects(const PatternsConfig& patterns, const ObjectConfig& config,
 }
 
 void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen::Vector3d& up_prior, FrameModel* model) {
-  const Eigen::Vector3d up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior.normalized();
+  const Eigen::Vector3d scene_up = model->floor >= 0 ? model->planes[model->floor].plane.normal : up_prior.normalized();
   const double axis_cos = std::cos(config.axis_tolerance_deg * kDegToRad);
   const double vertical_sin = std::sin(config.axis_tolerance_deg * kDegToRad);
   for (FrameObject& object : model->objects) {
     // 1. Axes: z up, x the horizontal normal of the largest vertical face (a face in pieces:
-    //    its plane fitted to them all, FindFaces, and its size theirs).
+    //    its plane fitted to them all, FindFaces, and its size theirs). Without a floor, up is
+    //    the normal of the object's own face nearest the prior's up, when one lies within
+    //    max_up_tilt_deg of it: a hand-held camera rolls, and its up is not the object's.
     std::map<int, size_t> face_size;
     for (int p : object.planes) face_size[model->FaceOf(p)] += model->planes[p].inliers.size();
+    Eigen::Vector3d up = scene_up;
+    if (model->floor < 0) {
+      double best = std::cos(config.max_up_tilt_deg * kDegToRad);
+      for (const auto& [f, size] : face_size) {
+        const Eigen::Vector3d& n = model->FacePlane(f).normal;
+        if (std::abs(n.dot(scene_up)) > best) {
+          best = std::abs(n.dot(scene_up));
+          up = n.dot(scene_up) > 0.0 ? n : Eigen::Vector3d(-n);
+        }
+      }
+    }
     int largest = -1;
     for (const auto& [f, size] : face_size) {
       if (std::abs(model->FacePlane(f).normal.dot(up)) > vertical_sin) continue;
@@ -305,6 +318,10 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
       }
     }
   }
+  // A cuboid is measured along each of its axes, whole or in part; planes meeting at a corner whose
+  // edges run along none of them (a slanted sheet against a wall, a tilted lid) are not one.
+  const auto unmeasured = [](const FrameObject& o) { return (o.dimensions.array() <= 0.0).any(); };
+  model->objects.erase(std::remove_if(model->objects.begin(), model->objects.end(), unmeasured), model->objects.end());
 }
 
 }  // namespace planemap

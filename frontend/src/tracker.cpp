@@ -55,6 +55,14 @@ struct Tracker::Observation {
   Eigen::Vector3d low_w = Eigen::Vector3d::Zero(), high_w = Eigen::Vector3d::Zero();
   int inliers = 0;
 
+  // Its weight among the frame's planes: a plane's offset error grows with its depth's noise
+  // (z^2) and shrinks with its inliers, but only as their square root, as depth errors are
+  // correlated (steps, a bend).
+  double Weight() const {
+    const double z = std::max(centroid_c.z(), 0.5);
+    return std::sqrt(static_cast<double>(inliers)) / (z * z);
+  }
+
   void Place(const Pose3& T_world_camera) {
     world = TransformPlane(T_world_camera, camera);
     centroid_w = T_world_camera * centroid_c;
@@ -66,6 +74,53 @@ struct Tracker::Observation {
 
 Tracker::Tracker(const TrackingConfig& config, const Pose3& T_world_first) : config_(config), T_world_first_(T_world_first) {
   ValidateConfig(config_, "tracking.");  // ranges, and refine is points, icp or none
+}
+
+Tracker::Tracker(const TrackingConfig& config, const Pose3& T_world_first, const CameraIntrinsics& camera)
+    : Tracker(config, T_world_first) {
+  camera_ = camera;
+}
+
+double Tracker::SeeThroughFraction(const Pose3& T_world_camera, const Cloud& cloud) const {
+  if (!camera_ || static_cast<int>(cloud.width) != camera_->width || static_cast<int>(cloud.height) != camera_->height) return -1.0;
+  // Every landmark's stored surface points that face the camera, at most about 4000 of them.
+  size_t total = 0;
+  for (const PlaneLandmark& l : map_.landmarks) total += l.points.size();
+  const size_t step = std::max<size_t>(1, total / 4000);
+  const Pose3 T_camera_world = T_world_camera.inverse();
+  const Eigen::Vector3d eye = T_world_camera.translation();
+  int seen = 0, through = 0;
+  size_t k = 0;
+  for (const PlaneLandmark& l : map_.landmarks) {
+    for (const Eigen::Vector3f& point : l.points) {
+      if (k++ % step != 0) continue;
+      const Eigen::Vector3d p = point.cast<double>();
+      if (l.plane.normal.dot(eye - p) <= 0.0) continue;  // its back: the camera cannot see this side
+      const Eigen::Vector3d c = T_camera_world * p;
+      if (c.z() < 0.3 || c.z() > config_.max_depth) continue;
+      const Eigen::Vector2d uv = camera_->Project(c);
+      const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+      if (u < 0 || v < 0 || u >= camera_->width || v >= camera_->height) continue;
+      // The measured depths at the pixel and around it (relocalize_edge_px away): a point at a
+      // silhouette is not seen through when a slightly different pose would put it on its surface.
+      const double tolerance = config_.relocalize_depth_tolerance + config_.relocalize_depth_tolerance_per_m * c.z();
+      const int r = config_.relocalize_edge_px;
+      bool measured_any = false, beyond = true;
+      for (const auto& [du, dv] : {std::pair{0, 0}, {-r, 0}, {r, 0}, {0, -r}, {0, r}}) {
+        const int x = u + du, y = v + dv;
+        if (x < 0 || y < 0 || x >= camera_->width || y >= camera_->height) continue;
+        const float measured = cloud.at(x, y).z;
+        if (!std::isfinite(measured)) continue;
+        measured_any = true;
+        beyond = beyond && measured > c.z() + tolerance;
+      }
+      const float measured = cloud.at(u, v).z;
+      if (!measured_any || (std::isfinite(measured) && measured < c.z() - tolerance)) continue;  // something in front: no verdict
+      ++seen;
+      through += beyond;
+    }
+  }
+  return seen >= config_.relocalize_min_checked_points ? static_cast<double>(through) / seen : -1.0;
 }
 
 Pose3 Tracker::Predict(double stamp, const std::optional<Pose3>& T_odometry_camera) const {
@@ -175,6 +230,43 @@ std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, co
     }
   }
   return groups;
+}
+
+std::vector<PlaneCorrespondence> Tracker::Correspondences(const std::vector<Candidate>& candidates,
+                                                          const std::vector<Observation>& observed) const {
+  std::vector<PlaneCorrespondence> correspondences;
+  for (const Candidate& c : candidates) {
+    const Observation& o = observed[c.observation];
+    // A landmark seen in fewer than confirm_views frames weighs in proportion (Confirmed).
+    const PlaneLandmark& l = map_.landmarks[c.landmark];
+    correspondences.push_back({o.camera, l.plane, Confirmed(l) * o.Weight(), o.centroid_c, c.observation});
+  }
+  // Weights relative to the best plane's, so the solver's spread test sees unit-scale rows.
+  double max_weight = 0.0;
+  for (const PlaneCorrespondence& c : correspondences) max_weight = std::max(max_weight, c.weight);
+  for (PlaneCorrespondence& c : correspondences) c.weight /= max_weight;
+  return correspondences;
+}
+
+double Tracker::SupportFraction(const PlaneRansacResult& ransac, const std::vector<Candidate>& candidates,
+                                const std::vector<Observation>& observed) {
+  double agreeing = 0.0, all = 0.0;
+  for (int k : ransac.inliers) agreeing += observed[candidates[k].observation].Weight();
+  for (const Observation& o : observed) all += o.Weight();
+  return all > 0.0 ? agreeing / all : 0.0;
+}
+
+std::vector<RelocalizationHypothesis> Tracker::Relocalize(const std::vector<Observation>& observed) const {
+  // The frame's planes (camera) against every landmark (world), weighted as in RANSAC: a
+  // landmark by its confirmation and its mean patch size per view.
+  std::vector<RelocalizationPlane> source, target;
+  for (const Observation& o : observed) source.push_back({o.camera, o.centroid_c, {o.low_c, o.high_c}, o.Weight()});
+  for (const PlaneLandmark& l : map_.landmarks) {
+    if (l.observations <= 0 || l.moments.w <= 0.0) continue;
+    const double weight = Confirmed(l) * std::sqrt(l.moments.n / l.observations);
+    target.push_back({l.plane, l.moments.Mean(), {l.low, l.high}, weight});
+  }
+  return RelocalizeByPlanes(source, target, config_.relocalization);
 }
 
 double Tracker::Confirmed(const PlaneLandmark& l) const {
@@ -297,24 +389,10 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     // candidate, and RANSAC draws more samples, so tracking recovers when structure returns.
     const double drift = unobserved_.trace() > 0.5 ? config_.max_speed * std::max(0.0, stamp - last_tracked_stamp_) : 0.0;
     for (Observation& o : observed) o.Place(predicted);
-    const std::vector<Candidate> candidates =
+    std::vector<Candidate> candidates =
         Associate(observed, gates.search_angle_deg, gates.search_distance,
                   drift > 0.0 ? static_cast<int>(map_.landmarks.size()) : gates.max_candidates, drift);
-    std::vector<PlaneCorrespondence> correspondences;
-    for (const Candidate& c : candidates) {
-      const Observation& o = observed[c.observation];
-      // Weight: a plane's offset error grows with its depth's noise (z^2) and shrinks with its
-      // inliers, but only as their square root, as depth errors are correlated (steps, a bend).
-      // A landmark seen in fewer than confirm_views frames weighs in proportion (Confirmed).
-      const double z = std::max(o.centroid_c.z(), 0.5);
-      const PlaneLandmark& l = map_.landmarks[c.landmark];
-      correspondences.push_back({o.camera, l.plane, Confirmed(l) * std::sqrt(static_cast<double>(o.inliers)) / (z * z),
-                                 o.centroid_c, c.observation});
-    }
-    // Weights relative to the best plane's, so the solver's spread test sees unit-scale rows.
-    double max_weight = 0.0;
-    for (const PlaneCorrespondence& c : correspondences) max_weight = std::max(max_weight, c.weight);
-    for (PlaneCorrespondence& c : correspondences) c.weight /= max_weight;
+    std::vector<PlaneCorrespondence> correspondences = Correspondences(candidates, observed);
     // Poses the robot cannot have reached from the prediction (beyond max_correction, plus the
     // drift along unobserved directions) are not hypotheses: parallel planes (a floor and a box
     // top, a shelf's boards) would otherwise offer consistent false matches.
@@ -322,14 +400,27 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     // may have moved by up to max_speed since (a study's second frame, 10 cm on).
     const double unknown_motion =
         history_.size() == 1 && !odometry ? config_.max_speed * std::max(0.0, stamp - history_.back().first) : 0.0;
+    // How much farther than max_correction(_deg) a pose may lie: only a relocalized one (below).
+    double slack = 0.0, slack_angle = 0.0;  // [m], [rad]
+    std::vector<Pose3> refused_poses;       // relocalized poses the depth refuted
     const auto plausibility = [&](const Pose3& T_candidate) {
       const Pose3 correction = predicted.inverse() * T_candidate;
       const Eigen::Vector3d moved = T_candidate.translation() - predicted.translation();  // world
       const Eigen::Vector3d along_unobserved = unobserved_ * moved;
-      const double observed_part = (moved - along_unobserved).norm() / (config_.max_correction + unknown_motion);
-      const double unobserved_part = along_unobserved.norm() / (config_.max_correction + drift);
-      const double turn = RotationAngle(correction.linear()) / (config_.max_correction_deg * kDegToRad);
+      const double observed_part = (moved - along_unobserved).norm() / (config_.max_correction + unknown_motion + slack);
+      const double unobserved_part = along_unobserved.norm() / (config_.max_correction + drift + slack);
+      const double turn = RotationAngle(correction.linear()) / (config_.max_correction_deg * kDegToRad + slack_angle);
       if (observed_part > 1.0 || unobserved_part > 1.0 || turn > 1.0) return 0.0;
+      for (const Pose3& refused : refused_poses) {
+        const Pose3 d = refused.inverse() * T_candidate;
+        if (d.translation().norm() < config_.relocalization.inlier_distance &&
+            RotationAngle(d.linear()) < config_.relocalization.rotation_merge_deg * kDegToRad) {
+          return 0.0;
+        }
+      }
+      // Relocalizing, poses agreed with alike (a room's walls, a quarter turn apart) are told apart
+      // by how far they lie from the prediction: the nearer weighs more.
+      if (!odometry && (slack > 0.0 || slack_angle > 0.0)) return 1.0 / (1.0 + observed_part * observed_part + turn * turn);
       if (!odometry) return 1.0;
       // With odometry the prediction errs by about odometry_sigma (odometry_sigma_deg): support
       // is weighed by a Cauchy likelihood of the correction, so a pose as consistent as the
@@ -343,21 +434,103 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     PlaneRansacConfig ransac_config = config_.ransac;
     if (drift > 0.0) ransac_config.max_iterations = std::max(ransac_config.max_iterations, config_.recovery_iterations);
     PlaneRansacResult ransac = EstimatePoseRansac(correspondences, ransac_config, {predicted}, plausibility);
-    if (ransac.ok) {
-      // The winner may be the prediction (a hypothesis no degeneracy test applies to) agreed with
-      // only by planes that fix fewer than 3 directions (a floor, a wall and planes parallel to
-      // them): the direction they leave free is then the motion model's, not measured. Such a
-      // frame is degraded, not tracked: it solves what its planes fix, and the free direction's
-      // drift widens the gates so that the planes which fix it are found again.
+    // The winner may be the prediction (a hypothesis no degeneracy test applies to) agreed with
+    // only by planes that fix fewer than 3 directions (a floor, a wall and planes parallel to
+    // them): the direction they leave free is then the motion model's, not measured. Such a
+    // frame is degraded, not tracked: it solves what its planes fix, and the free direction's
+    // drift widens the gates so that the planes which fix it are found again.
+    const auto fixes_three_directions = [&](PlaneRansacResult* r, const std::vector<Candidate>& pairs) {
+      if (!r->ok) return;
       Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();
-      for (int k : ransac.inliers) {
-        const Eigen::Vector3d& n = map_.landmarks[candidates[k].landmark].plane.normal;
+      for (int k : r->inliers) {
+        const Eigen::Vector3d& n = map_.landmarks[pairs[k].landmark].plane.normal;
         normals += n * n.transpose();
       }
       if (NormalSingularValues(normals)[0] < config_.ransac.min_normal_spread) {
-        ransac.ok = false;
-        ransac.reason = "the " + std::to_string(ransac.inliers.size()) + " planes that agree with the best pose do not fix 3 directions";
+        r->ok = false;
+        r->reason = "the " + std::to_string(r->inliers.size()) + " planes that agree with the best pose do not fix 3 directions";
       }
+    };
+    fixes_three_directions(&ransac, candidates);
+    // Three plane pairs whose normals span 3-D agree with the pose they give, right or wrong: a pose
+    // is evidence when more planes agree with it, or when those three are most of what the frame
+    // sees (a room's floor and two walls). In clutter (a desk's papers, books and monitor, 15-20
+    // planes a frame) a three-plane consensus was often a wrong pairing of parallel surfaces.
+    const auto enough_evidence = [&](PlaneRansacResult* r, const std::vector<Candidate>& pairs) {
+      if (!r->ok || static_cast<int>(r->inliers.size()) >= config_.min_agreeing_planes ||
+          SupportFraction(*r, pairs, observed) >= config_.min_agreeing_fraction) {
+        return;
+      }
+      r->ok = false;
+      r->reason = "only " + std::to_string(r->inliers.size()) + " of " + std::to_string(observed.size()) + " planes agree with the best pose";
+    };
+    enough_evidence(&ransac, candidates);
+    // The share of the map's surfaces in view that a RANSAC pose, refined on its inliers' points,
+    // sees through (the closed form of three planes may be a degree off, enough to move the map's
+    // silhouettes over what the camera measures); negative: no verdict.
+    const auto SeeThrough = [&](const PlaneRansacResult& r, const std::vector<Candidate>& pairs) {
+      std::vector<PointsOnPlane> inlier_points;
+      for (int k : r.inliers) inlier_points.push_back({observed[pairs[k].observation].moments, map_.landmarks[pairs[k].landmark].plane, 1.0});
+      const Pose3 refined = AlignPointsToPlanes(inlier_points, r.T_target_source, predicted, config_.prior_weight,
+                                                config_.refine_iterations, config_.refine_robust_scale).T_target_source;
+      return SeeThroughFraction(refined, cloud);
+    };
+    // Without a prediction to trust (relocalizing, or recovering: no frame tracked since the last
+    // degraded one) a pose must not look through the map's surfaces, and one that only three
+    // planes agree with (three always agree with the pose they give) needs the depth's verdict.
+    // (or that most of the frame's planes agree with: a room's floor and two walls).
+    const auto verified = [&](const PlaneRansacResult& r, const std::vector<Candidate>& pairs) {
+      const double through = SeeThrough(r, pairs);
+      if (through > config_.relocalize_max_see_through) return false;
+      const int agreeing = static_cast<int>(r.inliers.size());
+      return agreeing >= config_.min_agreeing_planes ||
+             (through >= 0.0 && agreeing >= config_.min_agreeing_fraction * static_cast<double>(observed.size()));
+    };
+    if (ransac.ok && unobserved_.trace() > 0.5 && !verified(ransac, candidates)) {
+      ransac.ok = false;
+      ransac.reason = "the best pose near the prediction looks through the mapped surfaces in view, or too few planes and no view of the map confirm it";
+    }
+    // 1b. No pose near the prediction, or one that most of the frame's planes do not agree with:
+    // poses from plane correspondences found without it, as far from it as the camera can have
+    // moved since the last pose, scored with the pairs near them.
+    const double gap = std::max(0.0, stamp - history_.back().first);
+    const bool weak = !ransac.ok || SupportFraction(ransac, candidates, observed) < config_.min_agreeing_fraction;
+    if (weak && config_.relocalize && observed.size() >= 3) {
+      slack = config_.relocalize_max_speed * gap;
+      slack_angle = config_.relocalize_max_turn_rate_deg * kDegToRad * gap;
+      std::vector<Pose3> hypotheses = {predicted};
+      if (ransac.inliers.size() >= 3) hypotheses.push_back(ransac.T_target_source);  // the nearby search's best
+      std::vector<Candidate> wider = candidates;
+      for (const RelocalizationHypothesis& h : Relocalize(observed)) {
+        if (!reachable(h.T_target_source)) continue;
+        hypotheses.push_back(h.T_target_source);
+        for (Observation& o : observed) o.Place(h.T_target_source);
+        for (const Candidate& c : Associate(observed, config_.relocalization.inlier_angle_deg, config_.relocalization.inlier_distance,
+                                            gates.max_candidates, 0.0)) {
+          const bool known = std::any_of(wider.begin(), wider.end(), [&](const Candidate& w) {
+            return w.observation == c.observation && w.landmark == c.landmark;
+          });
+          if (!known) wider.push_back(c);
+        }
+      }
+      // The best supported pose, unless the depth refutes it: then the next, a few times.
+      const std::vector<PlaneCorrespondence> wider_pairs = Correspondences(wider, observed);
+      for (int attempt = 0; attempt < config_.relocalize_attempts && hypotheses.size() > 1 + (ransac.inliers.size() >= 3); ++attempt) {
+        PlaneRansacResult relocalized = EstimatePoseRansac(wider_pairs, ransac_config, hypotheses, plausibility);
+        fixes_three_directions(&relocalized, wider);
+        enough_evidence(&relocalized, wider);
+        if (!relocalized.ok) break;
+        if (!verified(relocalized, wider)) {
+          refused_poses.push_back(relocalized.T_target_source);
+          continue;
+        }
+        ransac = std::move(relocalized);
+        candidates = wider;
+        correspondences = wider_pairs;
+        result.relocalized = true;
+        break;
+      }
+      if (!result.relocalized) slack = slack_angle = 0.0;
     }
     if (ransac.ok) {
       // The closed form weighs offsets measured far from the origin; the inlier pairs' points
@@ -539,6 +712,21 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   odometry_at_last_ = T_odometry_camera;
   while (history_.size() > 2 && history_.back().first - history_[1].first >= config_.velocity_window) history_.pop_front();
   if (result.status == TrackStatus::kTracked) last_tracked_stamp_ = stamp;
+  // Without odometry, a degraded frame is placed in part by the motion model's guess: when its
+  // rotation is guessed, or its unobserved directions may have drifted more than
+  // max_mapping_drift since the last tracked frame (max_speed per second), it neither adds to nor
+  // updates the map, which would otherwise hold its surfaces as far off as the guess (a hand-held
+  // camera turning 20 deg between two frames 0.17 s apart: every plane of the frame added again,
+  // 20 deg turned; frames 2 s apart: planes added 14 cm off).
+  const bool drifted = result.status == TrackStatus::kDegraded &&
+                       config_.max_speed * (stamp - last_tracked_stamp_) > config_.max_mapping_drift;
+  if (!first && (!rotation_observed || drifted) && !odometry) {
+    result.reason += !rotation_observed ? "; not mapped (its rotation is the motion model's guess)"
+                                        : "; not mapped (its position may have drifted beyond max_mapping_drift)";
+    result.landmark_of_plane = LandmarkOfPlane(model, observed, std::vector<int>(observed.size(), -1));
+    observations_.push_back(std::move(record));
+    return result;
+  }
 
   // The map: matched landmarks take the frame's inliers if they agree with them at the final
   // pose (a pairing that only the gates allowed must not bend a landmark); a landmark not yet
@@ -665,15 +853,28 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
       if (landmark_of_plane[p] >= 0) faces.push_back(landmark_of_plane[p]);
     }
     const Eigen::Vector3d center = T_world_camera * fo.center;
-    int match = -1;
+    // The map object it is: the one sharing the most faces (two at least), else the one whose
+    // cuboid it overlaps most (object_match_overlap of the smaller at least: a partial view's
+    // cuboid lies inside the whole one's, a neighbour's only touches it), else one of its class
+    // or sharing a face centred within object_match_distance.
+    int match = -1, best_shared = 1;
+    double best_overlap = config_.object_match_overlap;
     for (const MapObject& mo : map_.objects) {
       int shared = 0;
       for (int f : faces) shared += std::count(mo.landmarks.begin(), mo.landmarks.end(), f) > 0;
-      if (shared >= 2 ||
-          ((mo.label == fo.label || shared >= 1) && (mo.center - center).norm() < config_.object_match_distance)) {
+      const double overlap = CuboidOverlap(mo.center, mo.axes, mo.dimensions, center, R * fo.axes, fo.dimensions);
+      if (shared > best_shared || (best_shared < 2 && overlap > best_overlap)) {
         match = mo.id;
-        break;
+        best_shared = std::max(best_shared, shared);
+        best_overlap = std::max(best_overlap, overlap);
       }
+    }
+    for (const MapObject& mo : map_.objects) {
+      if (match >= 0) break;
+      const bool shares = std::any_of(faces.begin(), faces.end(), [&](int f) {
+        return std::count(mo.landmarks.begin(), mo.landmarks.end(), f) > 0;
+      });
+      if ((mo.label == fo.label || shares) && (mo.center - center).norm() < config_.object_match_distance) match = mo.id;
     }
     if (match < 0) {
       MapObject mo;

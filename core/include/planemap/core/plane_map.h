@@ -92,6 +92,13 @@ inline double QuarterTurn(const Eigen::Matrix3d& from, const Eigen::Matrix3d& to
   return std::remainder(std::atan2(to(1, 0), to(0, 0)) - std::atan2(from(1, 0), from(0, 0)), M_PI / 2.0);
 }
 
+// The share of the smaller of two cuboids (centre, axes as columns, dimensions) that lies inside
+// the other, in [0, 1]: the second is boxed in the first's axes, exact when they differ by quarter
+// turns about the vertical (upright objects). Dimensions under min_dimension count as it [m].
+double CuboidOverlap(const Eigen::Vector3d& center_a, const Eigen::Matrix3d& axes_a, const Eigen::Vector3d& dimensions_a,
+                     const Eigen::Vector3d& center_b, const Eigen::Matrix3d& axes_b, const Eigen::Vector3d& dimensions_b,
+                     double min_dimension = 0.01);
+
 struct Keyframe {
   int frame = 0;
   double stamp = 0.0;

@@ -46,6 +46,9 @@ struct MapMergeConfig {
   // A rebuilt object inherits the observations (complete edge lengths, centres, votes) of the
   // old objects it shares two faces with or whose centre lies this close.
   double object_match_distance = 0.25;  // [m]
+  // Two map objects are one (fused) when their cuboids share this much of the smaller one
+  // (CuboidOverlap): the same box mapped twice, from views that did not match it to the first.
+  double fuse_object_overlap = 0.5;     // [0, 1]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -64,6 +67,7 @@ struct MapMergeConfig {
     v("fuse_overlap_margin", fuse_overlap_margin, Check::kNonNegative);
     v("landmark_voxel", landmark_voxel, Check::kPositive);
     v("object_match_distance", object_match_distance, Check::kPositive);
+    v("fuse_object_overlap", fuse_object_overlap, Check::kPositive);
   }
 };
 
@@ -96,6 +100,11 @@ MapMergeResult MergeMaps(const PlaneMap& target, const PlaneMap& source, const P
 // united and the plane refit, edges merged (the longest of each pair), objects' faces and votes
 // renumbered. Landmark ids are renumbered densely. Returns the number of landmarks folded.
 int FuseDuplicateLandmarks(const MapMergeConfig& config, PlaneMap* map);
+
+// Folds map objects whose cuboids overlap by fuse_object_overlap or more into one: their views,
+// faces and votes united, the dimensions, centre, class and grasp axis taken from them again.
+// Object ids are renumbered densely. Returns the number of objects folded.
+int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map);
 
 // Re-aggregates the map's objects from its graph (trihedral angles of landmarks joined by map
 // edges, aggregated angle by angle, paper Fig. 4) and re-classifies them by the patterns. Each

@@ -56,6 +56,7 @@ PatternsConfig LoadPatterns(const std::string& file);
 struct ObjectConfig {
   double orientation_tolerance_deg = 15.0;  // horizontal / vertical within this of exact [deg]
   double axis_tolerance_deg = 15.0;         // an edge measures an axis if this close to it [deg]
+  double max_up_tilt_deg = 45.0;            // no floor in view: an object face this close to the prior's up is its top [deg]
   double hand_span_min = 0.10;              // a two-handed grasp holds objects this wide ... [m]
   double hand_span_max = 0.40;              // ... up to this wide, across the held sides [m]
   double grasp_max_height = 0.60;           // and up to this tall [m]
@@ -76,6 +77,7 @@ struct ObjectConfig {
   void VisitFields(V&& v) {
     v("orientation_tolerance_deg", orientation_tolerance_deg, Check::kPositive);
     v("axis_tolerance_deg", axis_tolerance_deg, Check::kPositive);
+    v("max_up_tilt_deg", max_up_tilt_deg, Check::kPositive);
     v("hand_span_min", hand_span_min, Check::kNonNegative);
     v("hand_span_max", hand_span_max, Check::kPositive);
     v("grasp_max_height", grasp_max_height, Check::kPositive);

@@ -18,6 +18,7 @@
 #include "planemap/core/plane_map.h"
 #include "planemap/frontend/organized_cloud.h"
 #include "planemap/frontend/plane_registration.h"
+#include "planemap/frontend/plane_relocalization.h"
 
 namespace planemap {
 
@@ -115,9 +116,43 @@ struct TrackingConfig {
   double max_speed = 0.3;                // while degraded, unobserved directions may drift this fast, and with no
                                          // velocity known yet (the second frame) the robot may have moved this fast [m/s]
   int recovery_iterations = 2000;        // RANSAC samples while degraded (wider search)
+  // Without odometry a degraded frame maps only while its unobserved directions may have drifted
+  // (max_speed per second since the last tracked frame) at most this much: farther, its new
+  // planes would be placed where no later view finds them again.
+  double max_mapping_drift = 0.10;       // [m]
+  // Without a prediction to trust: when the search around it finds no pose that fixes 3
+  // directions (frames far apart in time, a fast turn, a track lost) the pose is searched for
+  // among plane correspondences found without one (plane_relocalization.h), its hypotheses scored
+  // by RANSAC with the others. A pose so found may lie as far from the prediction as the camera
+  // can move in the time since the last pose: a hand-held camera or a walking robot's head,
+  // relocalize_max_speed and relocalize_max_turn_rate_deg beyond max_correction(_deg).
+  bool relocalize = true;
+  // A pose is taken when at least min_agreeing_planes planes agree with it, or planes carrying
+  // min_agreeing_fraction of the frame's plane weight: three planes with normals spanning 3-D
+  // agree with the translation they give, right or wrong (their normals check the rotation;
+  // nothing checks their offsets).
+  int min_agreeing_planes = 4;
+  double min_agreeing_fraction = 0.5;
+  RelocalizationConfig relocalization;
+  double relocalize_max_speed = 1.5;           // [m/s]
+  double relocalize_max_turn_rate_deg = 180.0; // [deg/s]
+  // ... and, when the tracker knows the camera, refused when the map's surfaces it places in view
+  // lie in front of what the camera measures (it would be looking through them) at more than
+  // relocalize_max_see_through of the checked surface points, a point counting as seen through
+  // when the measured depth lies beyond it by more than relocalize_depth_tolerance plus
+  // relocalize_depth_tolerance_per_m of its depth, there and relocalize_edge_px away on either
+  // side (near a silhouette a pose a degree off moves a point over the edge);
+  // relocalize_min_checked_points are needed for a verdict.
+  double relocalize_max_see_through = 0.20;    // [fraction]
+  double relocalize_depth_tolerance = 0.05;    // [m]
+  double relocalize_depth_tolerance_per_m = 0.02;  // [m/m]
+  int relocalize_edge_px = 6;                  // [px]
+  int relocalize_attempts = 3;                 // refuted poses set aside before giving up
+  int relocalize_min_checked_points = 50;
   double keyframe_distance = 0.25;       // a keyframe every this much motion ... [m]
   double keyframe_angle_deg = 15.0;      // ... or turn [deg]
-  double object_match_distance = 0.25;   // a frame object joins a map object this close [m]
+  double object_match_distance = 0.25;   // a frame object joins a map object this close [m] ...
+  double object_match_overlap = 0.5;     // ... or whose cuboid holds this share of the smaller one [0, 1]
   // A view that measured an object's height counts as this many that only bounded it from below
   // (a box stared at from the side, its top unseen, collects "locker" votes: it must not outvote
   // the views that saw its top) [-]
@@ -174,9 +209,23 @@ struct TrackingConfig {
     v("lost_after_distance", lost_after_distance, Check::kPositive);
     v("max_speed", max_speed, Check::kNonNegative);
     v("recovery_iterations", recovery_iterations, Check::kPositive);
+    v("max_mapping_drift", max_mapping_drift, Check::kPositive);
+    v("relocalize", relocalize);
+    v("min_agreeing_planes", min_agreeing_planes, Check::kPositive);
+    v("min_agreeing_fraction", min_agreeing_fraction, Check::kNonNegative);
+    v("relocalization", relocalization);
+    v("relocalize_max_speed", relocalize_max_speed, Check::kNonNegative);
+    v("relocalize_max_turn_rate_deg", relocalize_max_turn_rate_deg, Check::kNonNegative);
+    v("relocalize_max_see_through", relocalize_max_see_through, Check::kNonNegative);
+    v("relocalize_depth_tolerance", relocalize_depth_tolerance, Check::kPositive);
+    v("relocalize_depth_tolerance_per_m", relocalize_depth_tolerance_per_m, Check::kNonNegative);
+    v("relocalize_edge_px", relocalize_edge_px, Check::kNonNegative);
+    v("relocalize_attempts", relocalize_attempts, Check::kPositive);
+    v("relocalize_min_checked_points", relocalize_min_checked_points, Check::kPositive);
     v("keyframe_distance", keyframe_distance, Check::kPositive);
     v("keyframe_angle_deg", keyframe_angle_deg, Check::kPositive);
     v("object_match_distance", object_match_distance, Check::kPositive);
+    v("object_match_overlap", object_match_overlap, Check::kPositive);
     v("decided_vote_weight", decided_vote_weight, Check::kPositive);
     v("object_moved_distance", object_moved_distance, Check::kPositive);
     v("object_moved_angle_deg", object_moved_angle_deg, Check::kPositive);
@@ -210,6 +259,7 @@ struct TrackResult {
   int inliers = 0;      // RANSAC inliers among them
   int added = 0;        // new landmarks
   bool refined = false; // the refinement (points or ICP) was accepted
+  bool relocalized = false;  // the pose came from correspondences searched for without the prediction
   int silhouettes = 0;  // degraded: box sides whose silhouette pixels took part in the refinement
   std::string reason;   // why the frame is degraded or lost; empty when tracked
 };
@@ -218,6 +268,9 @@ class Tracker {
  public:
   // The first frame's camera pose is T_world_first (the identity: the first frame is the world).
   explicit Tracker(const TrackingConfig& config, const Pose3& T_world_first = Pose3::Identity());
+  // With the camera's intrinsics a pose found without the prediction is also checked against the
+  // frame's depth (the map's surfaces must not lie in front of what the camera measures).
+  Tracker(const TrackingConfig& config, const Pose3& T_world_first, const CameraIntrinsics& camera);
 
   // Tracks one frame (its model's planes index into `cloud`) and merges it into the map.
   // `T_odometry_camera`, when the platform has odometry (a walking robot's dead reckoning carried
@@ -244,6 +297,18 @@ class Tracker {
   // Per frame-model plane: the landmark its observation matched or became, else -1.
   static std::vector<int> LandmarkOfPlane(const FrameModel& model, const std::vector<Observation>& observed,
                                           const std::vector<int>& landmark_of);
+  // RANSAC's pairs for candidates, weighted (Observation::Weight, Confirmed), relative to the heaviest.
+  std::vector<PlaneCorrespondence> Correspondences(const std::vector<Candidate>& candidates,
+                                                   const std::vector<Observation>& observed) const;
+  // The share of the frame's plane weight (Observation::Weight) whose planes agree with RANSAC's pose.
+  static double SupportFraction(const PlaneRansacResult& ransac, const std::vector<Candidate>& candidates,
+                                const std::vector<Observation>& observed);
+  // The share of the map's surface points placed in view by T_world_camera that the camera sees
+  // through (see relocalize_max_see_through); negative when too few are in view to tell, or the
+  // camera is unknown.
+  double SeeThroughFraction(const Pose3& T_world_camera, const Cloud& cloud) const;
+  // Pose hypotheses from the frame's planes and the map's without the prediction.
+  std::vector<RelocalizationHypothesis> Relocalize(const std::vector<Observation>& observed) const;
   // 1 for a landmark seen in confirm_views frames or more, else the fraction of them it was seen
   // in: its weight in RANSAC.
   double Confirmed(const PlaneLandmark& l) const;
@@ -276,6 +341,7 @@ class Tracker {
 
   TrackingConfig config_;
   Pose3 T_world_first_;
+  std::optional<CameraIntrinsics> camera_;
   PlaneMap map_;
   std::vector<FrameObservations> observations_;
   std::vector<std::unordered_set<long long>> voxels_;  // per landmark: the voxels it holds
