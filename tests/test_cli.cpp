@@ -397,28 +397,52 @@ TEST(Cli, MapRefineWritesTheRefinedTrajectoryAndTheBoxesUncertainty) {
   EXPECT_GE(boxes, 1);
 }
 
-TEST(Cli, MapRefineOnARealSequenceStaysNearTracking) {
-  // TUM fr1/rpy, 100 frames of a handheld Kinect turning 1-4 deg a frame: real plane observations
-  // are off their landmarks by more than the rendered ones (the median about 1 deg). With outlier
-  // gates fixed at 1 deg / 1 cm the batch dropped 778 of 1361 observations and ended at 9.73 cm
-  // ATE against tracking's 4.29; the gates now widen to 3 robust standard deviations of the
-  // residuals (backend.outlier_spread_factor).
+// `planemap map --refine` on the real sequences of ../shared/data: the batch is never worse than
+// the tracking it starts from, by more than 1 mm of ATE RMSE (issue 54). Before the plane
+// observations' noise was estimated from the data (backend.noise_rounds), they were weighed by
+// their fits' covariances, which take thousands of pixels as independent: the batch bent TUM
+// fr3/structure_notexture_far from 0.56 to 0.98 cm (1.31 cm against 0.52 at stride 10).
+struct RealSequence {
+  const char* folder;  // under ../shared/data
+  const char* camera;  // under configs/cameras
+  int stride;
+};
+
+void PrintTo(const RealSequence& s, std::ostream* os) { *os << s.folder << " stride " << s.stride; }
+
+class MapRefine : public ::testing::TestWithParam<RealSequence> {};
+
+TEST_P(MapRefine, OnARealSequenceNeverWorseThanTrackingByMoreThanAMillimetre) {
+  const RealSequence& param = GetParam();
+  const std::string sequence = SharedPath(std::string("data/") + param.folder);
+  if (!std::filesystem::exists(sequence + "/groundtruth.txt")) GTEST_SKIP() << sequence << " missing (../shared/data)";
   TempDir dir;
-  const std::string slice = SharedPath("data/tum_fr1_rpy_slice");
-  const CommandRun run = Planemap("map " + slice + " --camera " + SourcePath("configs/cameras/tum_fr1.yaml") +
-                                  " --refine --out " + dir.File("m"));
+  const CommandRun run = Planemap("map " + sequence + " --camera " + SourcePath(std::string("configs/cameras/") + param.camera) +
+                                  " --stride " + std::to_string(param.stride) + " --refine --out " + dir.File("m"));
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const Trajectory truth = ReadTumTrajectory(slice + "/groundtruth.txt");
-  const TrajectoryEvaluation tracked =
-      EvaluateTrajectory(truth, ReadTumTrajectory(dir.File("m/trajectory.txt")), EvalConfig{}, "truth", "tracking");
-  const TrajectoryEvaluation refined =
-      EvaluateTrajectory(truth, ReadTumTrajectory(dir.File("m/trajectory_refined.txt")), EvalConfig{}, "truth", "batch");
-  std::printf("tum_fr1_rpy_slice: ATE RMSE tracking %.2f cm, batch %.2f cm\n", 100 * tracked.ate.translation.rmse,
-              100 * refined.ate.translation.rmse);
-  EXPECT_EQ(refined.pairs, 100u);
-  // Not better than tracking there (README, "Where it falls short"), but within 10% of it.
-  EXPECT_LE(refined.ate.translation.rmse, 1.1 * tracked.ate.translation.rmse) << "m";
+  const Trajectory truth = ReadTumTrajectory(sequence + "/groundtruth.txt");
+  const EvalConfig eval;
+  const AssociatedPoses tracked = AssociatePoses(truth, ReadTumTrajectory(dir.File("m/trajectory.txt")), eval.max_time_gap);
+  const AssociatedPoses refined = AssociatePoses(truth, ReadTumTrajectory(dir.File("m/trajectory_refined.txt")), eval.max_time_gap);
+  ASSERT_GE(tracked.size(), 3u);
+  EXPECT_EQ(refined.size(), tracked.size()) << "every tracked frame gets a refined pose";
+  const double ate_tracked = ComputeAte(tracked).translation.rmse, ate_refined = ComputeAte(refined).translation.rmse;
+  std::printf("%s, stride %d: ATE RMSE tracking %.2f cm, batch %.2f cm\n", param.folder, param.stride, 100 * ate_tracked,
+              100 * ate_refined);
+  EXPECT_LE(ate_refined, ate_tracked + 0.001) << "m";
 }
+
+std::string RealSequenceName(const ::testing::TestParamInfo<RealSequence>& info) {
+  return std::string(info.param.folder) + "_stride" + std::to_string(info.param.stride);
+}
+
+// About 10 s each at stride 1 (100-120 frames), 2 s at stride 10.
+INSTANTIATE_TEST_SUITE_P(Cli, MapRefine,
+                         ::testing::Values(RealSequence{"tum_fr1_rpy_slice", "tum_fr1.yaml", 1},
+                                           RealSequence{"tum_fr3_snt_far_head", "tum_fr3.yaml", 1},
+                                           RealSequence{"icl_office_kt0", "icl_nuim.yaml", 1},
+                                           RealSequence{"tum_fr3_snt_far_head", "tum_fr3.yaml", 10}),
+                         RealSequenceName);
 
 // The page inlines three.js from web/node_modules, which scripts/setup.sh installs.
 bool ThreeJsInstalled() { return std::filesystem::exists(SourcePath("web/node_modules/three/build/three.core.js")); }

@@ -137,6 +137,45 @@ TEST(PlaneObservationFactor, WhitenedResidualOfNoisyFitsIsChiSquareWithThreeDegr
   EXPECT_NEAR(mean, 3.0, 0.25);
 }
 
+TEST(PlaneObservationFactor, FirstTwoWhitenedRowsAreTheTiltAloneTheThirdTheShiftAtTheCentroid) {
+  // The back end reads a block's rows as tilt and shift (backend/src/noise_estimation.h): moving
+  // the landmark along its normal leaves the first two rows as they are; tilting it about the
+  // inliers' centroid leaves the third as it is, to first order (a fit's tilt and its offset at
+  // the centroid are independent); and over noisy fits the first two rows' squares average 2,
+  // the third's 1.
+  std::mt19937_64 rng(17);
+  double tilt_sum = 0.0, shift_sum = 0.0;
+  const int trials = 2000;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Pose3 T_W_C = RandomPose(rng, 3.0);
+    const Plane world = RandomPlane(rng);
+    const PlaneFit fit = NoisyFit(TransformPlane(T_W_C.inverse(), world), 0.02, rng);
+    const PlaneObservationFactor factor(fit.plane, fit.covariance, kMinStd);
+    EXPECT_NEAR(factor.sqrt_information()(0, 1), 0.0, 1e-12 * factor.sqrt_information().norm());
+    EXPECT_NEAR(factor.sqrt_information()(0, 2), 0.0, 1e-12 * factor.sqrt_information().norm());
+    EXPECT_NEAR(factor.sqrt_information()(1, 2), 0.0, 1e-12 * factor.sqrt_information().norm());
+    const PoseBlock pose = ToBlock(T_W_C);
+    Eigen::Vector3d residual, shifted;
+    const PlaneBlock plane = ToBlock(world);
+    factor(pose.data(), plane.data(), residual.data());
+    const PlaneBlock moved = ToBlock(Plane{world.normal, world.offset + 0.01});
+    factor(pose.data(), moved.data(), shifted.data());
+    EXPECT_NEAR((shifted - residual).head<2>().norm(), 0.0, 1e-9);
+    // From the observed plane itself (residual 0), tilted about the centroid by 0.1 mrad.
+    const Plane seen = TransformPlane(T_W_C, fit.plane);
+    const Eigen::Vector3d tilted = Eigen::AngleAxisd(1e-4, seen.normal.unitOrthogonal()) * seen.normal;
+    const PlaneBlock turned = ToBlock(Plane{tilted, -tilted.dot(T_W_C * fit.centroid)});
+    Eigen::Vector3d turned_residual;
+    factor(pose.data(), turned.data(), turned_residual.data());
+    EXPECT_LT(std::abs(turned_residual[2]), 0.01 * turned_residual.head<2>().norm());
+    tilt_sum += residual.head<2>().squaredNorm();
+    shift_sum += residual[2] * residual[2];
+  }
+  // Means of 2000 chi-square draws: standard deviations 0.045 (2 dof) and 0.032 (1 dof).
+  EXPECT_NEAR(tilt_sum / trials, 2.0, 0.2);
+  EXPECT_NEAR(shift_sum / trials, 1.0, 0.15);
+}
+
 TEST(PlaneObservationFactor, PoseFromPlaneObservationsIsTheTrueOne) {
   // Five landmarks fixed, a camera 2 m from them: its pose from their noisy observations with
   // Ceres, from a start 20 cm and 10 deg off.

@@ -24,6 +24,7 @@ BatchResult RefineBatch(const PlaneMap& map, const std::vector<FrameObservations
   spec.tracking_sigma = config.batch_tracking_sigma;
   spec.tracking_sigma_rad = config.batch_tracking_sigma_deg * M_PI / 180.0;
   spec.tracking_prior_weak_only = true;
+  spec.estimate_noise = true;
   FactorGraph graph(map, pointers, initial, config, spec);
   result.report = graph.Solve();
   if (!result.report.usable) {  // documented fallback: tracking's estimate, and the reason

@@ -27,12 +27,6 @@ ceres::LossFunction* MakeLoss(const RobustLossConfig& c) {
   throw std::invalid_argument("backend.loss.type must be huber, cauchy, soft_l1 or none, not '" + c.type + "'");
 }
 
-ceres::LinearSolverType SolverType(const std::string& name) {
-  if (name == "sparse_schur") return ceres::SPARSE_SCHUR;
-  if (name == "sparse_normal_cholesky") return ceres::SPARSE_NORMAL_CHOLESKY;
-  throw std::invalid_argument("backend.linear_solver must be sparse_schur or sparse_normal_cholesky, not '" + name + "'");
-}
-
 // Square-root information of a 6-dof pose error (translation, then rotation) with these sigmas.
 Eigen::Matrix<double, 6, 6> SqrtInformation(double sigma, double sigma_rad) {
   Eigen::Matrix<double, 6, 1> d;
@@ -66,6 +60,12 @@ double AxisStdDeg(const Eigen::Matrix3d& rotation_covariance, const Eigen::Vecto
 
 }  // namespace
 
+ceres::LinearSolverType SolverType(const std::string& name) {
+  if (name == "sparse_schur") return ceres::SPARSE_SCHUR;
+  if (name == "sparse_normal_cholesky") return ceres::SPARSE_NORMAL_CHOLESKY;
+  throw std::invalid_argument("backend.linear_solver must be sparse_schur or sparse_normal_cholesky, not '" + name + "'");
+}
+
 FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObservations*>& frames,
                          const std::vector<Pose3>& initial, const BackendConfig& config, const GraphSpec& spec)
     : map_(map), config_(config), spec_(spec) {
@@ -73,7 +73,6 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
   loss_.reset(MakeLoss(config.loss));
   pose_manifold_ = std::make_unique<PoseManifold>();
   plane_manifold_ = std::make_unique<PlaneManifold>();
-  const double min_std_normal = config.plane_min_std_deg * kDegToRad;
 
   for (size_t i = 0; i < frames.size(); ++i) {
     poses_.push_back(ToBlock(initial[i]));
@@ -128,6 +127,7 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
     }
   }
   if (spec.cuboids) AddCuboids(frames, initial);
+  if (spec.estimate_noise && config.noise_initial_pixels > 0.0) pixel_correlation_ = 1.0 / config.noise_initial_pixels;
 
   // Plane observations: on a cuboid's face, or on a landmark.
   for (size_t i = 0; i < frames.size(); ++i) {
@@ -137,28 +137,16 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
         throw std::invalid_argument("frame " + std::to_string(frames[i]->frame) + " observes plane " + std::to_string(o.landmark) +
                                     ", the map has " + std::to_string(map.landmarks.size()));
       }
-      const Eigen::Matrix4d covariance = FlooredPlaneCovariance(o.plane, o.centroid, o.covariance, min_std_normal, config.plane_min_std);
-      const double normal_std = std::sqrt(std::max(0.0, covariance.topLeftCorner<3, 3>().trace() / 2.0));
-      const Eigen::Vector4d at_centroid(o.centroid.x(), o.centroid.y(), o.centroid.z(), 1.0);
-      const double offset_std = std::sqrt(std::max(0.0, at_centroid.dot(covariance * at_centroid)));
       const int landmark = &o == frame_floor ? floor_id : o.landmark;
-      const auto face = face_of_landmark_.find(landmark);
-      if (face != face_of_landmark_.end()) {
-        Cuboid& c = cuboids_[face->second.cuboid];
-        observations_.push_back({problem_.AddResidualBlock(
-                                     BoxFaceFactor::Create(face->second.axis, face->second.side, o.plane, covariance, 0.0), Loss(),
-                                     poses_[i].data(), c.pose.data(), c.dimensions.data()),
-                                 i, landmark, &o, normal_std, offset_std});
-        continue;
+      if (!face_of_landmark_.count(landmark)) {
+        auto [it, added] = landmarks_.try_emplace(landmark, ToBlock(map.landmarks[landmark].plane));
+        if (added) {
+          problem_.AddParameterBlock(it->second.data(), 4, plane_manifold_.get());
+          if (!spec.free_landmarks) problem_.SetParameterBlockConstant(it->second.data());
+        }
       }
-      auto [it, added] = landmarks_.try_emplace(landmark, ToBlock(map.landmarks[landmark].plane));
-      if (added) {
-        problem_.AddParameterBlock(it->second.data(), 4, plane_manifold_.get());
-        if (!spec.free_landmarks) problem_.SetParameterBlockConstant(it->second.data());
-      }
-      observations_.push_back(
-          {problem_.AddResidualBlock(PlaneObservationFactor::Create(o.plane, covariance, 0.0), Loss(), poses_[i].data(), it->second.data()),
-           i, landmark, &o, normal_std, offset_std});
+      observations_.push_back({nullptr, i, landmark, &o});
+      AddPlaneBlock(&observations_.back());
     }
   }
   // Optional structure: landmarks the map's edges join at near right angles are perpendicular.
@@ -204,6 +192,26 @@ FactorGraph::FactorGraph(const PlaneMap& map, const std::vector<const FrameObser
       dimension_manifolds_.push_back(std::make_unique<ceres::SubsetManifold>(3, held));
       problem_.SetManifold(c.dimensions.data(), dimension_manifolds_.back().get());
     }
+  }
+}
+
+void FactorGraph::AddPlaneBlock(Observed* o) {
+  if (o->block != nullptr) problem_.RemoveResidualBlock(o->block);
+  const PlaneObservation& p = *o->observation;
+  const double correlated = std::max(1.0, pixel_correlation_ * p.inliers);
+  const Eigen::Matrix4d covariance = FlooredPlaneCovariance(p.plane, p.centroid, correlated * p.covariance, config_.plane_min_std_deg * kDegToRad,
+                                                            config_.plane_min_std);
+  o->normal_std = std::sqrt(std::max(0.0, covariance.topLeftCorner<3, 3>().trace() / 2.0));
+  const Eigen::Vector4d at_centroid(p.centroid.x(), p.centroid.y(), p.centroid.z(), 1.0);
+  o->offset_std = std::sqrt(std::max(0.0, at_centroid.dot(covariance * at_centroid)));
+  const auto face = face_of_landmark_.find(o->landmark);
+  if (face != face_of_landmark_.end()) {
+    Cuboid& c = cuboids_[face->second.cuboid];
+    o->block = problem_.AddResidualBlock(BoxFaceFactor::Create(face->second.axis, face->second.side, p.plane, covariance, 0.0), Loss(),
+                                         poses_[o->pose].data(), c.pose.data(), c.dimensions.data());
+  } else {
+    o->block = problem_.AddResidualBlock(PlaneObservationFactor::Create(p.plane, covariance, 0.0), Loss(), poses_[o->pose].data(),
+                                         landmarks_.at(o->landmark).data());
   }
 }
 
@@ -287,88 +295,6 @@ void FactorGraph::AddCuboids(const std::vector<const FrameObservations*>& frames
       if (c.held[k]) c.dimensions[k] = std::max(c.dimensions[k], lower_bound[ci][k]);
     }
   }
-}
-
-SolveReport FactorGraph::Solve() {
-  ceres::Solver::Options options;
-  options.linear_solver_type = SolverType(config_.linear_solver);
-  options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  options.max_num_iterations = spec_.max_iterations;
-  options.function_tolerance = config_.function_tolerance;
-  options.num_threads = config_.threads;
-  options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem_, &summary);
-  double initial_cost = summary.initial_cost, total_seconds = summary.total_time_in_seconds,
-         minimizer_seconds = summary.minimizer_time_in_seconds;
-  int iterations = static_cast<int>(summary.iterations.size()) - 1;  // the first entry is the start
-  // Outliers: an observation that, at the solution, is not on its landmark (a wrong association
-  // or a surface the landmark's one plane cannot hold) is dropped and the problem solved again.
-  int outliers = 0;
-  const double max_angle = config_.outlier_max_angle_deg * kDegToRad;
-  for (int round = 0; spec_.drop_outliers && round < config_.outlier_rounds && summary.IsSolutionUsable(); ++round) {
-    std::vector<double> angles, distances;
-    for (const Observed& o : observations_) {
-      const Plane in_camera = TransformPlane(pose(o.pose).inverse(), WorldPlane(o.landmark));
-      angles.push_back(std::acos(std::clamp(in_camera.normal.dot(o.observation->plane.normal), -1.0, 1.0)));
-      distances.push_back(std::abs(in_camera.SignedDistance(o.observation->centroid)));
-    }
-    // The gates widen to outlier_spread_factor robust standard deviations of all the residuals
-    // (1.4826 x their median) where the data are that far off as a whole.
-    const double angle_gate = std::max(max_angle, config_.outlier_spread_factor * 1.4826 * Percentile(angles, 0.5));
-    const double distance_gate =
-        std::max(config_.outlier_max_distance, config_.outlier_spread_factor * 1.4826 * Percentile(distances, 0.5));
-    std::vector<Observed> kept;
-    for (size_t k = 0; k < observations_.size(); ++k) {
-      const Observed& o = observations_[k];
-      const double angle = angles[k], distance = distances[k];
-      // Off by more than the gate and more than outlier_max_sigma of its own uncertainty (a far,
-      // small plane's normal is only known to a degree or two).
-      if (angle > std::max(angle_gate, config_.outlier_max_sigma * o.normal_std) ||
-          distance > std::max(distance_gate, config_.outlier_max_sigma * o.offset_std)) {
-        problem_.RemoveResidualBlock(o.block);
-        ++outliers;
-      } else {
-        kept.push_back(o);
-      }
-    }
-    if (kept.size() == observations_.size()) break;
-    observations_ = std::move(kept);
-    // A landmark all of whose observations went is no longer in the problem (its map plane stays).
-    for (auto it = landmarks_.begin(); it != landmarks_.end();) {
-      std::vector<ceres::ResidualBlockId> left;
-      problem_.GetResidualBlocksForParameterBlock(it->second.data(), &left);
-      if (left.empty()) {
-        problem_.RemoveParameterBlock(it->second.data());
-        it = landmarks_.erase(it);
-      } else {
-        ++it;
-      }
-    }
-    ceres::Solve(options, &problem_, &summary);
-    total_seconds += summary.total_time_in_seconds;
-    minimizer_seconds += summary.minimizer_time_in_seconds;
-    iterations += static_cast<int>(summary.iterations.size()) - 1;
-  }
-  SolveReport r;
-  r.linear_solver = std::string(ceres::LinearSolverTypeToString(summary.linear_solver_type_used)) + " (" +
-                    ceres::SparseLinearAlgebraLibraryTypeToString(options.sparse_linear_algebra_library_type) + ")";
-  r.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " + summary.message;
-  r.usable = summary.IsSolutionUsable();
-  r.iterations = iterations;
-  r.initial_cost = initial_cost;
-  r.final_cost = summary.final_cost;
-  r.seconds = total_seconds;
-  r.seconds_per_iteration = iterations > 0 ? minimizer_seconds / iterations : 0.0;
-  r.observations = static_cast<int>(observations_.size()) + outliers;
-  r.outliers = outliers;
-  r.poses = static_cast<int>(poses_.size());
-  r.landmarks = static_cast<int>(landmarks_.size());
-  r.cuboids = static_cast<int>(cuboids_.size());
-  r.residual_blocks = summary.num_residual_blocks;
-  r.brief = summary.BriefReport();
-  r.full = summary.FullReport();
-  return r;
 }
 
 const PlaneObservation* FactorGraph::FloorSeenAsDuplicate(const FrameObservations& frame, int floor) const {

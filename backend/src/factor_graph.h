@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <ceres/ceres.h>
@@ -25,7 +26,13 @@ struct GraphSpec {
   // Each frame's tracking pose as a measurement with these sigmas (0: none) [m, rad].
   double tracking_sigma = 0.0, tracking_sigma_rad = 0.0;
   bool tracking_prior_weak_only = false;  // ... on weak frames only
+  // Start the plane fits' effective independent pixels at BackendConfig::noise_initial_pixels and
+  // estimate them from the residuals (noise_rounds rounds); else the fits' covariances as they are.
+  bool estimate_noise = false;
 };
+
+// Throws std::invalid_argument naming the setting for an unknown solver name.
+ceres::LinearSolverType SolverType(const std::string& name);
 
 class FactorGraph {
  public:
@@ -54,7 +61,16 @@ class FactorGraph {
     std::array<bool, 3> held{};  // only bounded from below: held at the bound
     bool top_seen = false;       // its top face (z, +1) was observed
   };
+  struct Observed;
   void AddCuboids(const std::vector<const FrameObservations*>& frames, const std::vector<Pose3>& initial);
+  // (Re)adds a plane observation's residual block, whitened with its fit's covariance as if from
+  // N_eff independent pixels (pixel_correlation_ = 1 / N_eff), floored.
+  void AddPlaneBlock(Observed* o);
+  // Variance component estimation of pixel_correlation_ (noise_estimation.h): true when it moved
+  // by more than noise_tolerance (the observations are then whitened anew).
+  bool UpdateNoise();
+  // Drops the plane observations off their landmarks at the solution; how many went.
+  int DropOutliers();
   ceres::LossFunction* Loss() const { return loss_.get(); }
 
   const PlaneMap& map_;
@@ -94,6 +110,8 @@ class FactorGraph {
   // The world plane the graph now holds for a landmark (its block or its box's face).
   Plane WorldPlane(int landmark) const;
   std::vector<Observed> observations_;
+  double pixel_correlation_ = 0.0;  // 1 / N_eff (0: the pixels independent)
+  std::string noise_report_;        // what the estimation found, for SolveReport::full
 };
 
 }  // namespace planemap::backend_detail

@@ -86,6 +86,40 @@ struct BackendConfig {
   // planes fix only in part from drifting along what they leave free.
   double batch_tracking_sigma = 0.01;      // [m]
   double batch_tracking_sigma_deg = 0.5;   // [deg]
+  // Batch: the plane observations' noise, estimated from the data (variance component
+  // estimation; the model and the estimate: backend/src/noise_estimation.h). A plane fit's
+  // covariance takes its thousands of pixels as independent, but a structured-light sensor's
+  // depth errs in blocks and its distortion bends whole surfaces. On real frames at the true
+  // poses an observation is off its surface by 0.50 deg and 2.8 mm at the median on TUM
+  // fr3/structure_notexture_far (its fit claims 0.018 deg and 0.05 mm), 1.5 deg and 4.3 mm on
+  // fr1/rpy, 0.19 deg and 0.35 mm on ICL-NUIM kt0, and surfaces differ: 0.2-0.3 deg for fr3's
+  // floor and near panels, 2-6 deg for its far wall strips. Weighed by the fits' covariances
+  // (floored at plane_min_std_deg / plane_min_std, which stay as lower bounds), the batch
+  // followed the planes' errors: fr3 went from tracking's 0.56 to 0.98 cm ATE. So each fit's
+  // covariance is taken as if from N_eff independent pixels (times N / N_eff: a far strip keeps
+  // its larger spread, a plane its tilt-to-shift ratio), and N_eff is estimated after each solve
+  // from the residuals and the problem solved again, at most noise_rounds times, until it moves
+  // by less than noise_tolerance. It comes out 5-14 on fr1/rpy, 23-41 on fr3 and 150-650 on ICL
+  // kt0 (strides 1 to 20), about 4500 on a rendered walk (nearly independent pixels); at stride 1
+  // the three real ones went to 2.71, 0.62 and 0.57 cm (tracking 3.57, 0.56, 0.73).
+  // Tried and not kept: a floor per landmark estimated the same way (fr3 0.70 cm: a landmark that
+  // fixes the poses keeps too little of its error in its residuals to measure), and tracking's
+  // motion noise estimated with the planes' floor: it was computed from the same planes, so its
+  // residuals cannot tell its noise; it shrank to 0.01 mm on ICL kt0 in eight rounds and the
+  // batch became tracking (0.73 cm there). So tracking's motion keeps odometry_sigma.
+  int noise_rounds = 8;               // 0: N_eff stays at noise_initial_pixels
+  // N_eff the batch starts from, and keeps where too few observations tell (frames far apart,
+  // each surface seen once or twice): near the geometric mean of the real sensors' above, so
+  // that a structured-light sensor's planes are not taken as independent pixels where nothing
+  // says otherwise. 0: the pixels independent.
+  double noise_initial_pixels = 50.0;  // [px]
+  double noise_tolerance = 0.05;      // [ratio]
+  // An observation whose residual keeps less than this share of its error (a landmark seen once,
+  // or twice in frames it alone fixes: most of them where frames are far apart) tells too little
+  // of the noise to count; with fewer than noise_min_samples left the noise stays as it is.
+  double noise_min_redundancy = 0.2;  // [ratio]
+  int noise_min_samples = 10;
+  int noise_probes = 64;              // random vectors for the residuals' redundancy (Hutchinson)
   // Sliding window: the last window_size frames, the oldest held fixed; landmarks as the map has them.
   int window_size = 10;
   int window_max_iterations = 10;
@@ -132,6 +166,12 @@ struct BackendConfig {
     v("covariance", covariance);
     v("batch_tracking_sigma", batch_tracking_sigma, Check::kNonNegative);
     v("batch_tracking_sigma_deg", batch_tracking_sigma_deg, Check::kNonNegative);
+    v("noise_rounds", noise_rounds, Check::kNonNegative);
+    v("noise_initial_pixels", noise_initial_pixels, Check::kNonNegative);
+    v("noise_tolerance", noise_tolerance, Check::kPositive);
+    v("noise_min_redundancy", noise_min_redundancy, Check::kProbability);
+    v("noise_min_samples", noise_min_samples, Check::kPositive);
+    v("noise_probes", noise_probes, Check::kPositive);
     v("window_size", window_size, Check::kPositive);
     v("window_max_iterations", window_max_iterations, Check::kPositive);
     v("window_tracking_sigma", window_tracking_sigma, Check::kNonNegative);

@@ -59,8 +59,15 @@ class PlaneObservationFactor {
     J(2, 3) = 1.0;
     Eigen::Matrix3d sigma = J * covariance * J.transpose();
     sigma += std::max(min_std, 0.0) * std::max(min_std, 0.0) * Eigen::Matrix3d::Identity();
-    // L = chol(Sigma^-1)^T, upper triangular: |L e|^2 = e^T Sigma^-1 e.
-    sqrt_information_ = Eigen::LLT<Eigen::Matrix3d>(sigma.inverse()).matrixL().transpose();
+    // L with L^T L = Sigma^-1 (so |L e|^2 = e^T Sigma^-1 e), lower triangular: its first two rows
+    // whiten the tilt alone (L's top-left block A has A^T A = Sigma_tilt^-1) and the third the
+    // offset given the tilt, which for a plane fit, whose tilt and offset are independent at the
+    // inliers' centroid, is the shift there. Any such L gives the same cost; this one lets the
+    // back end read a block's rows as tilt and shift (backend/src/noise_estimation.h). It is the
+    // upper Cholesky factor of Sigma^-1 with the rows and columns in reverse order.
+    const Eigen::Matrix3d reverse = Eigen::Matrix3d::Identity().rowwise().reverse();
+    const Eigen::Matrix3d upper = Eigen::LLT<Eigen::Matrix3d>(reverse * sigma.inverse() * reverse).matrixU();
+    sqrt_information_ = reverse * upper * reverse;
   }
 
   // pose: [qx qy qz qw tx ty tz] (T_W_C); plane: [nx ny nz d] (world).
