@@ -419,8 +419,10 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
         }
       }
       // Relocalizing, poses agreed with alike (a room's walls, a quarter turn apart) are told apart
-      // by how far they lie from the prediction: the nearer weighs more.
-      if (!odometry && (slack > 0.0 || slack_angle > 0.0)) return 1.0 / (1.0 + observed_part * observed_part + turn * turn);
+      // by how far they lie from the prediction: the nearer weighs a little more.
+      if (!odometry && (slack > 0.0 || slack_angle > 0.0)) {
+        return 1.0 / (1.0 + config_.relocalize_tie_break * (observed_part * observed_part + turn * turn));
+      }
       if (!odometry) return 1.0;
       // With odometry the prediction errs by about odometry_sigma (odometry_sigma_deg): support
       // is weighed by a Cauchy likelihood of the correction, so a pose as consistent as the
@@ -486,7 +488,11 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
       return agreeing >= config_.min_agreeing_planes ||
              (through >= 0.0 && agreeing >= config_.min_agreeing_fraction * static_cast<double>(observed.size()));
     };
-    if (ransac.ok && unobserved_.trace() > 0.5 && !verified(ransac, candidates)) {
+    // Searching without the prediction needs the depth to refute wrong poses (the camera's
+    // intrinsics), and is for a camera without odometry: a robot's odometry predicts its pose
+    // across any gap well enough for the search near it.
+    const bool can_relocalize = config_.relocalize && camera_.has_value() && !odometry;
+    if (can_relocalize && ransac.ok && unobserved_.trace() > 0.5 && !verified(ransac, candidates)) {
       ransac.ok = false;
       ransac.reason = "the best pose near the prediction looks through the mapped surfaces in view, or too few planes and no view of the map confirm it";
     }
@@ -495,7 +501,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     // moved since the last pose, scored with the pairs near them.
     const double gap = std::max(0.0, stamp - history_.back().first);
     const bool weak = !ransac.ok || SupportFraction(ransac, candidates, observed) < config_.min_agreeing_fraction;
-    if (weak && config_.relocalize && observed.size() >= 3) {
+    if (weak && can_relocalize && observed.size() >= 3) {
       slack = config_.relocalize_max_speed * gap;
       slack_angle = config_.relocalize_max_turn_rate_deg * kDegToRad * gap;
       std::vector<Pose3> hypotheses = {predicted};
