@@ -18,9 +18,10 @@ if [ "${1:-}" = "--sanitize" ]; then
   # CLI test), the rendered tracking stretches (single wall, near a box, facing a shelf, a far
   # wall), the rendered merge and the seeded consistency runs, whose units have their own tests
   # (silhouettes, merging, covariances); every closed-loop approach run (the --trace CLI test runs
-  # the whole loop for 2 s); and the report's browser test (another approach run; the page is the
-  # same as the release build's).
-  exclude='(TrackedWalk.*/(storeroom|office)|RefinedWalk)|Tracking\.(SingleWallStretch|NearABoxItsSilhouettes|FacingOnePlane|AStandingRobotDoesNotFollowAFarWall)|MapMerge\.TwoHalves|Consistency\.BoxDimensionCovariances|Approach\.(FeedbackBeats|ASecondWithout|AnObjectMoved|ScenarioThreeEnds|ABoxNotMapped|PlanesMappedOnce|ABoxHidden|ARobotFacing|ACrateBefore)|Report\.ApproachPageInBrowser'
+  # the whole loop for 2 s); the report's browser test (another approach run; the page is the
+  # same as the release build's); and the real sequences' map, refine and stride-20 runs
+  # (Tracking.RealSequenceRunsEndToEnd and the fr3 pair take the same paths on real frames).
+  exclude='(TrackedWalk.*/(storeroom|office)|RefinedWalk)|Cli\.MapOfARealSequence|Cli/MapRefine\.OnARealSequence|Real/WideBaseline|Tracking\.(SingleWallStretch|NearABoxItsSilhouettes|FacingOnePlane|AStandingRobotDoesNotFollowAFarWall)|MapMerge\.TwoHalves|Consistency\.BoxDimensionCovariances|Approach\.(FeedbackBeats|ASecondWithout|AnObjectMoved|ScenarioThreeEnds|ABoxNotMapped|PlanesMappedOnce|ABoxHidden|ARobotFacing|ACrateBefore)|Report\.ApproachPageInBrowser'
 else
   build_dir=build
   bash scripts/build.sh "$build_dir"
