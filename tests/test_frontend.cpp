@@ -138,13 +138,29 @@ TEST(Frontend, AWholeEdgeShorterThanACutOneOnTheSameAxisIsNotTheObjectsDimension
     };
     add_edge(0, 1, cut_length, true);
     add_edge(0, 2, 0.20, false);
+    // The floor, and the faces' whole edges along it: an object unmeasured along an axis is dropped.
+    add_plane({1.0, -0.3, 0.06}, up);
+    model.floor = 3;
+    const auto add_floor_edge = [&](int face, const Eigen::Vector3d& direction, double length) {
+      PlaneEdge e;
+      e.plane_a = 3;
+      e.plane_b = face;
+      e.start = {1.0, -0.5, 0.06};
+      e.direction = direction;
+      e.end = e.start + length * direction;
+      e.length = length;
+      model.edges.push_back(e);
+    };
+    add_floor_edge(0, Eigen::Vector3d::UnitY(), 0.4);
+    add_floor_edge(1, Eigen::Vector3d::UnitX(), 0.3);
     FrameObject object;
     object.planes = {0, 1, 2};
     model.objects.push_back(object);
     MeasureObjects(Cloud(), ObjectConfig{}, up, &model);
-    return model.objects[0];
+    return model.objects.empty() ? FrameObject{} : model.objects[0];
   };
   const FrameObject pillar = measure(0.58);
+  ASSERT_EQ(pillar.planes.size(), 3u) << "the object was dropped";
   EXPECT_NEAR(pillar.dimensions[2] * 100.0, 58.0, 1e-9);
   EXPECT_FALSE(pillar.dimension_complete[2]);
   // A cut edge longer only by noise (1 cm, within edge_length_tolerance 3 cm): the whole edge stands.
@@ -187,9 +203,10 @@ TEST(Frontend, TwoPiecesOfOneEdgeMeasureTheObjectTogether) {
     object.planes = {1, 2, 3};
     model.objects.push_back(object);
     MeasureObjects(Cloud(), config, up, &model);
-    return model.objects[0];
+    return model.objects.empty() ? FrameObject{} : model.objects[0];
   };
   const FrameObject joined = measure(ObjectConfig{}, 0.0);
+  ASSERT_EQ(joined.planes.size(), 3u) << "the object was dropped";
   EXPECT_NEAR(std::abs(joined.axes.col(0).x()), 1.0, 1e-9);  // the front's normal
   EXPECT_NEAR(joined.dimensions[0] * 100.0, 30.0, 0.1) << "cm";
   EXPECT_TRUE(joined.dimension_complete[0]);
