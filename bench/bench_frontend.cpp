@@ -190,7 +190,7 @@ void RunFrontend(benchmark::State& state, const FrontendConfig& config) {
   state.counters["objects_per_frame"] = static_cast<double>(objects) / data.frames.size();
 }
 void BM_Frontend(benchmark::State& state) { RunFrontend(state, FrontendConfig{}); }
-// The same without the inferences for occluded solids (README, "Hidden edges"): their cost.
+// The same without the inferences for occluded solids (docs/frontend.md, "Hidden edges"): their cost.
 void BM_FrontendNoOcclusionInference(benchmark::State& state) {
   FrontendConfig config;
   config.intersections.hidden_edges = false;

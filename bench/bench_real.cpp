@@ -242,7 +242,7 @@ int main(int argc, char** argv) {
   app.add_option("--work", options.work,
                  "Keep planemap map's outputs in this folder (default: a temporary folder, removed)");
   app.add_option("--csv", options.csv, "Write every figure here: sequence,stride,method,metric,value,unit");
-  app.add_flag("--markdown", options.markdown, "Print the table as Markdown (for the README)");
+  app.add_flag("--markdown", options.markdown, "Print the table as Markdown (for the README and docs/real_data.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

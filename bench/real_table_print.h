@@ -1,5 +1,5 @@
 #pragma once
-// The real-data table as text: fixed-width for the console, Markdown for the README, CSV with
+// The real-data table as text: fixed-width for the console, Markdown for the README and docs/real_data.md, CSV with
 // every figure, and the summary against the best OpenCV peer.
 #include <cstdio>
 #include <optional>

@@ -1,7 +1,7 @@
 // The closed loop of `planemap approach` on the default scene, and one run in each room added
 // after tuning: rendered frames, the product's perception and estimation, the simulated
 // humanoid. A small set of seeds; the full table is `planemap approach --table --seeds 20`
-// (README). Frames at 15 Hz to keep the suite short.
+// (docs/approach.md). Frames at 15 Hz to keep the suite short.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -113,7 +113,7 @@ TEST(Approach, AnObjectMovedAndTurnedAfterThePlanIsApproachedWhereItIsNow) {
 }
 
 // The two rooms added after the navigation was tuned (configs/scenes/lab.yaml, hall.yaml; the
-// full tables: README).
+// full tables: docs/approach.md).
 TEST(Approach, ScenarioThreeEndsAtThePreGraspPoseInRoomsAddedAfterTuning) {
   for (const char* scene : {"configs/scenes/lab.yaml", "configs/scenes/hall.yaml"}) {
     ApproachOptions o = Options(3, 1);

@@ -85,7 +85,7 @@ TEST_P(RefinedWalk, BatchLowersAteAndBoxErrorWindowNeverWorse) {
   EXPECT_LE(ate_batch, param.ate_goal ? std::max(0.7 * ate_tracking, 1.05 * ate_optimum) : ate_tracking) << "m";
   // And never worse than tracking, whatever the optimum: an optimum worse than tracking is the data
   // pulling it off (the office walk's batch was once 3.57 mm against tracking's 2.81, its optimum
-  // 4.95 mm: a shelf side whose plane took in the board's front edge, README, "Refine").
+  // 4.95 mm: a shelf side whose plane took in the board's front edge, docs/frontend.md).
   EXPECT_LE(ate_batch, ate_tracking) << "m";
   if (param.dimension_goal) {
     EXPECT_LE(a->dimension_error.cwiseAbs().mean(), 0.7 * b->dimension_error.cwiseAbs().mean()) << "m";

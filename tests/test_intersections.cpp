@@ -144,7 +144,7 @@ TEST(Intersections, BoxEdgesHaveTheirTrueLengthsAndEnds) {
 
 TEST(Intersections, PixelsBesideAFaceThatNoPlaneTookAreItsFringeForTheEdges) {
   // A face's last pixels in each row that went to no plane (as a face's end beside cells mixed
-  // with the background does in the organized segmenter: OSD learn17's lower box, README): with
+  // with the background does in the organized segmenter: OSD learn17's lower box, docs/frontend.md): with
   // fringe_px they count as the face's again for the edges, which come back to within 2 mm of their
   // lengths with those pixels in the face (at the median; a dropped pixel nearer the other plane
   // is that plane's fringe); without, the edges that run across the rows end about a centimetre

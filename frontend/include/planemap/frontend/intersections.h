@@ -70,7 +70,7 @@ struct IntersectionConfig {
   // runs between two such corners (a box's top and the floor), or from one as far as both faces
   // reach, its far end cut. A seen edge of either face that ends short of the hidden edge is cut
   // there. [on/off]
-  bool hidden_edges = true;  // README, "Hidden edges"
+  bool hidden_edges = true;  // docs/frontend.md, "Hidden edges"
   double hidden_max_reach = 0.2;         // the corner lies at most this far past both ends [m]
   double hidden_min_determinant = 0.5;   // |det(n_a, n_b, n_c)| of the three planes, at least
   double hidden_min_depth_share = 0.5;   // share of the pixels along the way with depth, at least

@@ -121,7 +121,7 @@ struct SegmenterConfig {
   // coplanar_max_gap apart). Two surfaces of one equation behind one occluder are then taken for
   // one: the simpler reading, which the image cannot tell from the other.
   double coplanar_min_occluded = 0.9;         // [fraction]
-  int coplanar_max_occluded_gap = 120;        // [px]; 0: off (README, "Hidden edges")
+  int coplanar_max_occluded_gap = 120;        // [px]; 0: off (docs/frontend.md, coplanar pieces)
   // Nor when the plane through both fits them worse than this many times their own planes' RMS,
   // taken as at least the sensor's depth resolution (the floor at 1 m, growing as depth squared;
   // a Kinect's noise and disparity step together are about 1.7 mm at 1 m): parallel faces a step apart.

@@ -62,7 +62,7 @@ struct TrackingConfig {
   // back-end tests' walks the prediction erred by 9.7 mm at the median, 25 mm at the 99th
   // percentile and 48 mm at most (frames after a recovery); at 0.15 m the storeroom walk's frame
   // 53 took a pose 12 cm off that a strip 3 deg tilted and a far wall strip's landmark agreed with
-  // as well as the true pose's planes (README, "Tracking"). Rotations are less predictable (a
+  // as well as the true pose's planes (docs/tracking.md). Rotations are less predictable (a
   // turn on the spot starts at once), so their bound is wider.
   double max_correction = 0.10;          // [m]
   double max_correction_deg = 20.0;      // [deg]
