@@ -292,6 +292,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f, int on
 }
 
 TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd");
   const Frontend frontend = MakeFrontend();
   BoxFigures f;
   for (int i = 0; i <= 24; ++i) EvaluateOsdScene(i, frontend, &f);
@@ -361,6 +362,7 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
 }
 
 TEST(RealFrames, AStripTakesBackItsFaceAndAnEdgeEndsOnTheLedgeItStandsOn) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd");
   // learn17: a box stacked on a larger one, whose top shows only as ledges 2-3 cm wide around it.
   // The right ledge's plane took the lower rows of the upper box's side (a strip found later, its
   // pixels a few millimetres from the ledge's plane) and came out 13.6 deg off level; the upper
@@ -391,6 +393,7 @@ TEST(RealFrames, AStripTakesBackItsFaceAndAnEdgeEndsOnTheLedgeItStandsOn) {
 }
 
 TEST(RealFrames, EdgesEndWhereTheCameraSeesThemEnd) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd");
   // learn22: a box stacked on another, its sides flush with the lower box's, which lends the
   // side planes a few pixels below the upper box; and one side's last centimetre left out by the
   // segmenter, then missing depth, while the top runs on. Taken at face value, the vertical
@@ -440,6 +443,7 @@ double LabelledExtent(const PcdFrame& pcd, int box, const Eigen::Vector3d& axis)
 }
 
 TEST(RealFrames, ASideSplitAtItsRoundedCornerIsMeasuredAlongBothPieces) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd");
   // learn17's lower box: its right side is two planes 5.8 deg apart, one at the rounded front
   // corner, each meeting the table along a piece of one line. Measured from one piece, the box
   // was 12.8 cm deep, called whole.
@@ -466,6 +470,7 @@ TEST(RealFrames, ASideSplitAtItsRoundedCornerIsMeasuredAlongBothPieces) {
 }
 
 TEST(RealFrames, FacesInPiecesMakeTheLowerOfTwoStackedBoxesWithItsTopAndSides) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd");
   // learn17's lower box: its top shows only as two ledges 2-3 cm wide on either side of the box
   // standing on it (planes 8.8 deg apart, each tilted by its rounded rim), and its right side as
   // two planes 5.8 deg apart. Each ledge meets the front along a piece of the front's top edge,
@@ -519,6 +524,7 @@ TEST(RealFrames, FacesInPiecesMakeTheLowerOfTwoStackedBoxesWithItsTopAndSides) {
 }
 
 TEST(RealFrames, ARoundedCornerBesideAFaceIsNotAPieceOfIt) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd");
   // learn20's right box: a strip along its rounded vertical corner, 9.6 deg from the side, meets
   // the front beside the side's own edge with it (their stretches along the line overlap by
   // 10 cm). Taken for a piece of the side, it turned the side's fitted plane 5.5 deg off its
@@ -535,6 +541,7 @@ TEST(RealFrames, ARoundedCornerBesideAFaceIsNotAPieceOfIt) {
 }
 
 TEST(RealFrames, AFrontsLastPixelsThatNoPlaneTookMeasureItsWidthAsItsFringe) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd");
   // learn17's lower box, 5.6 cm tall at 0.8 m (37 px, two cell rows): at its front's left end the
   // cells are mixed with the table and the background, so the segmenter offered the front's plane
   // to none of the last 7 pixel columns, flat within 1-2 mm of it. As the front's fringe
@@ -559,6 +566,8 @@ TEST(RealFrames, AFrontsLastPixelsThatNoPlaneTookMeasureItsWidthAsItsFringe) {
 }
 
 TEST(RealFrames, TumOfficeFramesGivePlanesAndNoInventedObjects) {
+  PLANEMAP_REQUIRE_SHARED("data/tum_frame_pairs");
+  PLANEMAP_REQUIRE_SHARED("data/tum_fr1_rpy_slice");
   const Frontend frontend = MakeFrontend();
   int frames = 0;
   for (const std::string dir : {"data/tum_frame_pairs/fr1_xyz", "data/tum_frame_pairs/fr3_long_office_household", "data/tum_fr1_rpy_slice"}) {
@@ -611,7 +620,13 @@ TEST(PcdSource, BadFilesAreErrorsNamingTheFile) {
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(no_z, camera); }, {no_z, "no 'z' field"}));
   const std::string truncated = dir.Write("truncated.pcd", header(640, 480, "x y z", 640 * 480) + "0 0 1\n0 1 1\n");
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(truncated, camera); }, {truncated, "truncated or corrupt"}));
-  // A real frame cut short inside its compressed data.
+}
+
+// A real frame cut short inside its compressed data.
+TEST(PcdSource, ARealFrameCutShortIsAnErrorNamingTheFile) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd/learn2.pcd");
+  testing::TempDir dir;
+  const CameraIntrinsics camera = OpenNi();
   std::ifstream in(SharedPath("data/osd_boxes_learn/pcd/learn2.pcd"), std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string cut = dir.Write("cut.pcd", bytes.substr(0, bytes.size() / 2));

@@ -154,7 +154,7 @@ TEST(RealTable, ReadsTrackingCsvAndTheBatchTime) {
 // fr1_xyz pair (0.1 s apart) must recover the true relative motion within 2 cm and 2 deg.
 TEST(RealTable, RgbdIcpOdometryRecoversTheFr1XyzMotion) {
   const std::string dir = SharedPath("data/tum_frame_pairs/fr1_xyz");
-  if (!fs::is_directory(dir)) GTEST_SKIP() << dir << " missing: the real data is in ../shared/data";
+  PLANEMAP_REQUIRE_SHARED("data/tum_frame_pairs/fr1_xyz");
   const TumSequence sequence =
       TumSequence::Open(dir, LoadCameraIntrinsics(SourcePath(*CameraFileByName("fr1_xyz"))));
   ASSERT_EQ(sequence.size(), 2u);

@@ -21,6 +21,17 @@ std::string SharedPath(const std::string& relative) {
   return std::string(override_dir != nullptr ? override_dir : PLANEMAP_SHARED_DIR) + "/" + relative;
 }
 
+std::string MissingShared(const std::string& relative) {
+  const std::string path = SharedPath(relative);
+  if (fs::exists(path)) return "";
+  return path + " missing: the real data sets are in ../shared beside the repository (or set PLANEMAP_SHARED_DIR)";
+}
+
+bool SharedDataRequired() {
+  const char* required = std::getenv("PLANEMAP_REQUIRE_SHARED_DATA");
+  return required != nullptr && std::string(required) == "1";
+}
+
 TempDir::TempDir() {
   static std::atomic<int> counter{0};
   path_ = (fs::temp_directory_path() /

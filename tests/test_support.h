@@ -17,6 +17,22 @@ std::string SourcePath(const std::string& relative);
 // the environment variable PLANEMAP_SHARED_DIR overrides where shared/ is.
 std::string SharedPath(const std::string& relative);
 
+// The real data sets are not in the repository: a clone alone has no ../shared. A test that reads
+// them starts with PLANEMAP_REQUIRE_SHARED("data/..."): when that file or folder is missing the
+// test is skipped with a message naming it, or fails with the same message when the environment
+// sets PLANEMAP_REQUIRE_SHARED_DATA=1 (CI does: a run there cannot pass by skipping).
+// MissingShared: "" when SharedPath(relative) exists, else that message.
+std::string MissingShared(const std::string& relative);
+bool SharedDataRequired();
+#define PLANEMAP_REQUIRE_SHARED(relative)                                                      \
+  do {                                                                                          \
+    const std::string planemap_missing_ = ::planemap::testing::MissingShared(relative);         \
+    if (!planemap_missing_.empty()) {                                                           \
+      if (::planemap::testing::SharedDataRequired()) FAIL() << planemap_missing_;               \
+      GTEST_SKIP() << planemap_missing_;                                                        \
+    }                                                                                           \
+  } while (false)
+
 // A fresh, empty folder under the system temp dir, removed when the object dies.
 class TempDir {
  public:

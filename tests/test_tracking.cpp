@@ -96,6 +96,7 @@ TEST(Tracking, RealSequenceRunsEndToEndAndPrintsAte) {
   // office: no threshold on the ATE is asked for yet; the test prints it. It asserts that every
   // frame gets a pose and a status, that the tracker measures (not only predicts) most of them,
   // and that the tracked poses are near the ground truth's (anchored at the first).
+  PLANEMAP_REQUIRE_SHARED("data/tum_fr1_rpy_slice");
   const std::string dir = testing::SharedPath("data/tum_fr1_rpy_slice");
   const CameraIntrinsics camera = LoadCameraIntrinsics(SourcePath("configs/cameras/tum_fr1.yaml"));
   const TumSequence sequence = TumSequence::Open(dir, camera, DatasetConfig{});
@@ -186,7 +187,7 @@ class WideBaseline : public ::testing::TestWithParam<std::pair<const char*, cons
 
 TEST_P(WideBaseline, EveryTwentiethFrameIsTrackedWithinTwiceTheAteOfEveryFrame) {
   const std::string dir = testing::SharedPath(std::string("data/") + GetParam().first);
-  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " missing: the real data is in ../shared/data";
+  PLANEMAP_REQUIRE_SHARED(std::string("data/") + GetParam().first);
   const RealRun every = TrackReal(dir, GetParam().second, 1), twentieth = TrackReal(dir, GetParam().second, 20);
   std::printf("%s: stride 1 ATE %.2f cm; stride 20: %d tracked (%d relocalized), %d degraded, %d lost, ATE %.2f cm\n", GetParam().first,
               100 * every.ate.translation.rmse, twentieth.tracked, twentieth.relocalized, twentieth.degraded, twentieth.lost,
@@ -205,8 +206,8 @@ INSTANTIATE_TEST_SUITE_P(Real, WideBaseline,
 // TUM fr3/long_office_household, two frames 2.3 s apart (30 cm, 6 deg): no prediction reaches
 // the second; its pose is found from the planes both see.
 TEST(Tracking, TwoRealFramesFarApartAreRelocalized) {
+  PLANEMAP_REQUIRE_SHARED("data/tum_frame_pairs/fr3_long_office_household");
   const std::string dir = testing::SharedPath("data/tum_frame_pairs/fr3_long_office_household");
-  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " missing: the real data is in ../shared/data";
   const CameraIntrinsics camera = LoadCameraIntrinsics(SourcePath("configs/cameras/tum_fr3.yaml"));
   const TumSequence sequence = TumSequence::Open(dir, camera, DatasetConfig{});
   ASSERT_EQ(sequence.size(), 2u);

@@ -1,15 +1,18 @@
 // TUM RGB-D sequences: real data, write/read round trips, and bad input that names the file.
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -85,9 +88,43 @@ void ExpectAssociationsLikeAssociatePy(const TumSequence& sequence, const std::s
   }
 }
 
+// --- The shared data's absence ----------------------------------------------------------------
+
+void RequireAbsentFolder() { PLANEMAP_REQUIRE_SHARED("data/no_such_folder"); }
+
+// A clone alone has no ../shared: a test that needs it is skipped with a message naming the missing
+// folder; with PLANEMAP_REQUIRE_SHARED_DATA=1 (CI) the same is a failure.
+TEST(SharedData, AMissingFolderIsNamedAndCiTurnsTheSkipIntoAFailure) {
+  // The environment is restored at the end: the other tests read the real ../shared.
+  const auto saved = [](const char* name) {
+    const char* v = std::getenv(name);
+    return v != nullptr ? std::optional<std::string>(v) : std::nullopt;
+  };
+  const std::optional<std::string> shared_before = saved("PLANEMAP_SHARED_DIR"), required_before = saved("PLANEMAP_REQUIRE_SHARED_DATA");
+  const planemap::testing::TempDir shared;
+  shared.Write("data/present/groundtruth.txt", "");
+  ::setenv("PLANEMAP_SHARED_DIR", shared.path().c_str(), 1);
+  EXPECT_EQ(planemap::testing::MissingShared("data/present"), "");
+  const std::string missing = planemap::testing::MissingShared("data/no_such_folder");
+  EXPECT_EQ(missing.rfind(shared.path() + "/data/no_such_folder missing", 0), 0u) << missing;
+  ::setenv("PLANEMAP_REQUIRE_SHARED_DATA", "1", 1);
+  EXPECT_TRUE(planemap::testing::SharedDataRequired());
+  EXPECT_FATAL_FAILURE(RequireAbsentFolder(), "no_such_folder missing");
+  ::setenv("PLANEMAP_REQUIRE_SHARED_DATA", "0", 1);
+  EXPECT_FALSE(planemap::testing::SharedDataRequired());
+  for (const auto& [name, value] : {std::pair{"PLANEMAP_SHARED_DIR", shared_before}, std::pair{"PLANEMAP_REQUIRE_SHARED_DATA", required_before}}) {
+    if (value) {
+      ::setenv(name, value->c_str(), 1);
+    } else {
+      ::unsetenv(name);
+    }
+  }
+}
+
 // --- Real TUM data -----------------------------------------------------------------------------
 
 TEST(RealTum, Fr1XyzHasTwoFramesWithGroundTruth) {
+  PLANEMAP_REQUIRE_SHARED("data/tum_frame_pairs/fr1_xyz");
   const std::string dir = SharedPath("data/tum_frame_pairs/fr1_xyz");
   const TumSequence sequence = TumSequence::Open(dir, OpenNiCamera());
   ASSERT_EQ(sequence.size(), 2u);
@@ -142,6 +179,7 @@ TEST(RealTum, Fr1XyzHasTwoFramesWithGroundTruth) {
 }
 
 TEST(RealTum, Fr3FirstFrameHasNoGroundTruth) {
+  PLANEMAP_REQUIRE_SHARED("data/tum_frame_pairs/fr3_long_office_household");
   const std::string dir = SharedPath("data/tum_frame_pairs/fr3_long_office_household");
   const TumSequence sequence =
       TumSequence::Open(dir, LoadCameraIntrinsics(SourcePath("configs/cameras/tum_fr3.yaml")));
@@ -177,6 +215,7 @@ TEST(RealTum, Fr3FirstFrameHasNoGroundTruth) {
 }
 
 TEST(RealTum, Fr1RpySliceHas100FramesAllWithGroundTruth) {
+  PLANEMAP_REQUIRE_SHARED("data/tum_fr1_rpy_slice");
   const std::string dir = SharedPath("data/tum_fr1_rpy_slice");
   const TumSequence sequence = TumSequence::Open(dir, OpenNiCamera());
   ASSERT_EQ(sequence.size(), 100u);
@@ -453,6 +492,7 @@ TEST(BadInput, NoColourDepthPairWithinTheGap) {
 }
 
 TEST(BadInput, InvalidCameraIsRejected) {
+  PLANEMAP_REQUIRE_SHARED("data/tum_frame_pairs/fr1_xyz");
   const std::string dir = SharedPath("data/tum_frame_pairs/fr1_xyz");
   CameraIntrinsics nan_fx = OpenNiCamera();
   nan_fx.fx = std::numeric_limits<double>::quiet_NaN();
