@@ -54,6 +54,33 @@ void Absorb(const MapObject& from, MapObject* into) {
   for (const auto& [landmark, n] : from.grasp_votes) Vote(&into->grasp_votes, landmark, n);
 }
 
+// Folds `from` into `into`, one physical object seen as two: evidence added (Absorb), faces
+// united, and the estimates made again from the sums. A dimension is the mean of the complete
+// views, else the longer of the two lower bounds.
+void Fold(const MapObject& from, const PlaneMap& map, MapObject* into) {
+  Absorb(from, into);
+  std::set<int> faces(into->landmarks.begin(), into->landmarks.end());
+  faces.insert(from.landmarks.begin(), from.landmarks.end());
+  into->landmarks.assign(faces.begin(), faces.end());
+  for (int j = 0; j < 3; ++j) {
+    const int k = AxisOf(into->axes, from.axes.col(j));
+    if (into->complete_count[k] > 0) {
+      into->dimensions[k] = into->complete_sum[k] / into->complete_count[k];
+      into->dimension_complete[k] = true;
+    } else {
+      into->dimensions[k] = std::max(into->dimensions[k], from.dimensions[j]);
+    }
+  }
+  into->center = into->center_count > 0 ? Eigen::Vector3d(into->center_sum / into->center_count)
+                                        : Eigen::Vector3d(into->partial_center_sum / std::max(1, into->partial_center_count));
+  if (!into->label_votes.empty()) into->label = Winner(into->label_votes);
+  if (!into->grasp_votes.empty()) {
+    into->grasp_landmark = Winner(into->grasp_votes);
+    into->has_grasp_axis = true;
+    into->grasp_axis = map.landmarks[into->grasp_landmark].plane.normal;
+  }
+}
+
 // Renumbers landmarks: new_id[old] is the landmark it became (several olds may share one).
 // Landmarks, edges (the longest of a merged pair) and objects' faces and votes follow.
 void Renumber(const std::vector<int>& new_id, double voxel, PlaneMap* map) {
@@ -203,29 +230,7 @@ int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map) {
     }
     ++folded;
     MapObject& into = *same;
-    const Eigen::Vector3d bounds = into.dimensions;
-    Absorb(o, &into);
-    std::set<int> faces(into.landmarks.begin(), into.landmarks.end());
-    faces.insert(o.landmarks.begin(), o.landmarks.end());
-    into.landmarks.assign(faces.begin(), faces.end());
-    // Dimensions: the mean of the complete views, else the longer lower bound of the two.
-    for (int j = 0; j < 3; ++j) {
-      const int k = AxisOf(into.axes, o.axes.col(j));
-      if (into.complete_count[k] > 0) {
-        into.dimensions[k] = into.complete_sum[k] / into.complete_count[k];
-        into.dimension_complete[k] = true;
-      } else {
-        into.dimensions[k] = std::max(bounds[k], o.dimensions[j]);
-      }
-    }
-    into.center = into.center_count > 0 ? Eigen::Vector3d(into.center_sum / into.center_count)
-                                        : Eigen::Vector3d(into.partial_center_sum / std::max(1, into.partial_center_count));
-    if (!into.label_votes.empty()) into.label = Winner(into.label_votes);
-    if (!into.grasp_votes.empty()) {
-      into.grasp_landmark = Winner(into.grasp_votes);
-      into.has_grasp_axis = true;
-      into.grasp_axis = map->landmarks[into.grasp_landmark].plane.normal;
-    }
+    Fold(o, *map, &into);
     into.uncertainty = MapObject::Uncertainty{};  // of neither object any more
   }
   map->objects = std::move(kept);
@@ -317,28 +322,7 @@ void RebuildObjects(const ObjectModel& model, double object_match_distance, Plan
       rebuilt.back().id = static_cast<int>(rebuilt.size()) - 1;
       continue;
     }
-    MapObject& into = *same;
-    Absorb(old, &into);
-    std::set<int> faces(into.landmarks.begin(), into.landmarks.end());
-    faces.insert(old.landmarks.begin(), old.landmarks.end());
-    into.landmarks.assign(faces.begin(), faces.end());
-    for (int j = 0; j < 3; ++j) {
-      const int k3 = AxisOf(into.axes, old.axes.col(j));
-      if (into.complete_count[k3] > 0) {
-        into.dimensions[k3] = into.complete_sum[k3] / into.complete_count[k3];
-        into.dimension_complete[k3] = true;
-      } else {
-        into.dimensions[k3] = std::max(into.dimensions[k3], old.dimensions[j]);  // both bound it from below
-      }
-    }
-    into.center = into.center_count > 0 ? Eigen::Vector3d(into.center_sum / into.center_count)
-                                        : Eigen::Vector3d(into.partial_center_sum / std::max(1, into.partial_center_count));
-    if (!into.label_votes.empty()) into.label = Winner(into.label_votes);
-    if (!into.grasp_votes.empty()) {
-      into.grasp_landmark = Winner(into.grasp_votes);
-      into.has_grasp_axis = true;
-      into.grasp_axis = map->landmarks[into.grasp_landmark].plane.normal;
-    }
+    Fold(old, *map, &*same);
   }
   map->objects = std::move(rebuilt);
 }
