@@ -63,6 +63,19 @@ Eigen::Vector3d AlongRayOntoPlane(const Plane& plane, const Eigen::Vector3d& p) 
 
 namespace {
 
+// Whether some point of `box` lies less than `half_width` from `plane`: the range of the plane's
+// signed distance over the box is taken at its corners.
+bool BoxMeetsSlab(const Box3& box, const Plane& plane, double half_width) {
+  if (box.Empty()) return false;
+  double low = plane.offset, high = plane.offset;
+  for (int k = 0; k < 3; ++k) {
+    const double at_low = plane.normal[k] * box.low[k], at_high = plane.normal[k] * box.high[k];
+    low += std::min(at_low, at_high);
+    high += std::max(at_low, at_high);
+  }
+  return low < half_width && high > -half_width;
+}
+
 // Eqs. (2)-(5): pixels of `own` (its inliers, then its fringe) within d_thresh of both planes and
 // farther than d_min from both; and (band) its pixels from d_thresh to band_width away from `other`. With band_on_plane,
 // a band point moves along its ray onto `own` when its distance to `own` is within the depth
@@ -638,6 +651,7 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
     return win;
   };
   const double max_cos = std::cos(c.min_angle_deg * kDegToRad);
+  const double far = std::max(c.d_thresh, c.band_width);  // CollectEdgePoints looks no farther from the other plane
   std::vector<PlaneEdge> edges;
   // Each pair's points, and CollectEdgePoints' scratch: emptied for each pair, but their memory
   // kept (growing them pair after pair cost about a tenth of the stage).
@@ -648,6 +662,9 @@ std::vector<PlaneEdge> FindIntersections(const std::vector<DetectedPlane>& plane
       const Plane& pa = planes[a].plane;
       const Plane& pb = planes[b].plane;
       if (std::abs(pa.normal.dot(pb.normal)) > max_cos || !boxes[a].Overlaps(boxes[b], c.d_thresh)) continue;
+      // Neither plane has a point within `far` of the other (so no edge point and no band point,
+      // and SharedSpan finds nothing) when its box lies wholly on one side of the other's slab.
+      if (!BoxMeetsSlab(boxes[a], pb, far) || !BoxMeetsSlab(boxes[b], pa, far)) continue;
       points_a.clear(), points_b.clear(), band_a.clear(), band_b.clear();
       // The planes whose points come near both (the others are too far to have lent a pixel).
       std::vector<const DetectedPlane*> nearby;

@@ -180,6 +180,10 @@ DetectedPlane MakeDetectedPlane(const PlaneFit& fit, std::vector<int> inliers, c
 // The box of the plane's inlier points: its bounds when computed, else from the cloud.
 Box3 InlierBounds(const Cloud& cloud, const DetectedPlane& plane);
 
+// The moments of the given pixels' points, each weighted by the inverse of its depth noise
+// variance (DepthNoiseWeight); their box into *bounds when given.
+PointMoments InlierMoments(const Cloud& cloud, const std::vector<int>& inliers, Box3* bounds = nullptr);
+
 // Refits a plane by least squares on the given pixels of the cloud, each weighted by the inverse
 // of its depth noise variance (DepthNoiseWeight).
 DetectedPlane FitDetectedPlane(const Cloud& cloud, std::vector<int> inliers);
