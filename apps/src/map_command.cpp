@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <future>
 
 #include "app_report.h"
 #include "planemap/apps/app_config.h"
@@ -95,26 +96,51 @@ int RunMap(const MapOptions& options) {
   std::vector<double> frontend_ms, tracking_ms, window_ms;
   Trajectory tracked, truth;  // for the report; the truth when the map is in its world
   using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  for (size_t i = 0; i < frames; i += options.stride) {
+  // Two stages on two threads: while frame k is tracked (and smoothed), frame k + 1 is read and
+  // goes through the frontend, which depends on no pose. Tracking takes the frames in order, so
+  // the outputs are those of one thread, frame for frame.
+  struct Perceived {
     RgbdFrame frame;
+    Cloud::Ptr cloud;
+    FrameModel model;
+    double frontend_ms = 0.0;
+    std::string unreadable;  // why the frame could not be read; empty when it was
+  };
+  const auto perceive = [&](size_t i) {
+    Perceived p;
     try {
-      frame = sequence.LoadFrame(i);
-    } catch (const InputError& e) {  // documented fallback: report, skip, go on
-      std::fprintf(stderr, "\nplanemap map: frame %zu skipped: %s\n", i, e.what());
+      p.frame = sequence.LoadFrame(i);
+    } catch (const InputError& e) {
+      p.unreadable = e.what();
+      return p;
+    }
+    const auto t0 = Clock::now();
+    p.cloud = MakeOrganizedCloud(p.frame, camera, config.frontend.cloud);
+    p.model = frontend.Process(*p.cloud);
+    p.frontend_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return p;
+  };
+  const auto start = Clock::now();
+  std::future<Perceived> next;
+  if (frames > 0) next = std::async(std::launch::async, perceive, size_t{0});
+  for (size_t i = 0; i < frames; i += options.stride) {
+    Perceived perceived = next.get();
+    if (i + options.stride < frames) next = std::async(std::launch::async, perceive, i + options.stride);
+    if (!perceived.unreadable.empty()) {  // documented fallback: report, skip, go on
+      std::fprintf(stderr, "\nplanemap map: frame %zu skipped: %s\n", i, perceived.unreadable.c_str());
       ++unreadable;
       continue;
     }
-    const auto t0 = Clock::now();
-    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
-    const FrameModel model = frontend.Process(*cloud);
+    const RgbdFrame& frame = perceived.frame;
+    const Cloud::Ptr& cloud = perceived.cloud;
+    const FrameModel& model = perceived.model;
     for (const auto& p : *cloud) cloud_points += IsValidPoint(p);
     const auto t1 = Clock::now();
     const TrackResult r = tracker.Track(model, *cloud, frame.stamp);
     const auto t2 = Clock::now();
     const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
     const auto t3 = Clock::now();
-    frontend_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    frontend_ms.push_back(perceived.frontend_ms);
     tracking_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
     window_ms.push_back(std::chrono::duration<double, std::milli>(t3 - t2).count());
     ++counts[static_cast<int>(r.status)];
