@@ -388,6 +388,26 @@ void Flood(int seed, const Cloud& cloud, bool diagonal, int bridge, std::vector<
   }
 }
 
+// Sorts the pixels of a part, each marked `mark` in `marks` (as other pixels may be), none before
+// `first`: a compact part (a strip along a few rows) is collected by scanning the span of pixel
+// indices it covers, faster than sorting; a sparse one is sorted. Either way the part comes out
+// in ascending order and the marks as they were.
+void SortPixels(int first, std::uint8_t mark, std::vector<int>* part, std::vector<std::uint8_t>* marks) {
+  const int last = *std::max_element(part->begin(), part->end());
+  if (static_cast<size_t>(last - first) > 16 * part->size()) {
+    std::sort(part->begin(), part->end());
+    return;
+  }
+  constexpr std::uint8_t kCollecting = 255;  // the part's own pixels while they are collected
+  for (const int i : *part) (*marks)[i] = kCollecting;
+  part->clear();
+  for (int i = first; i <= last; ++i) {
+    if ((*marks)[i] != kCollecting) continue;
+    (*marks)[i] = mark;
+    part->push_back(i);
+  }
+}
+
 // Step 4b: planes among the pixels no plane took, where no cell fits (a box's side seen as a
 // strip 10-18 px wide running diagonally across the image). The free pixels are split into parts
 // connected on the image grid (across up to `bridge` pixels without depth) without a depth
@@ -422,7 +442,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
       return true;
     });
     if (static_cast<int>(part.size()) < min_inliers) continue;  // most parts: a few pixels
-    std::sort(part.begin(), part.end());  // row order: the samples do not hang on the fill's order
+    SortPixels(start, 1, &part, &in_part);  // row order: the samples do not hang on the fill's order
     while (static_cast<int>(part.size()) >= min_inliers) {
       const size_t stride = std::max<size_t>(1, part.size() / 250);
       std::uniform_int_distribution<size_t> pick(0, part.size() - 1);
@@ -464,7 +484,7 @@ std::vector<std::vector<int>> LeftoverPlanes(const Cloud& cloud, const std::vect
           return true;
         });
         if (static_cast<int>(piece.size()) < min_inliers) continue;
-        std::sort(piece.begin(), piece.end());
+        SortPixels(seed, 2, &piece, &in_plane);  // `on` is sorted: no pixel of the piece before its seed
         found.push_back(std::move(piece));
       }
       for (int i : on) in_plane[i] = 0;
