@@ -5,21 +5,14 @@
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <numeric>
 #include <set>
 
 #include <gtest/gtest.h>
-#include <pcl/ModelCoefficients.h>
-#include <pcl/PointIndices.h>
-#include <pcl/sample_consensus/method_types.h>
-#include <pcl/sample_consensus/model_types.h>
-#include <pcl/segmentation/sac_segmentation.h>
-
-#include <opencv2/imgproc.hpp>
 
 #include "planemap/core/detected_plane.h"
 #include "planemap/core/statistics.h"
 #include "planemap/frontend/frontend.h"
+#include "planemap/frontend/osd_labels.h"
 #include "planemap/frontend/pcd_source.h"
 #include "planemap/io/tum_sequence.h"
 #include "test_support.h"
@@ -36,93 +29,6 @@ CameraIntrinsics OpenNi() { return LoadCameraIntrinsics(SourcePath("configs/came
 
 Frontend MakeFrontend(const FrontendConfig& config = FrontendConfig{}) {
   return Frontend(OpenNi(), config, LoadPatterns(SourcePath("configs/patterns.yaml")));
-}
-
-// mOSD labels: 1-9 the table, 20-29 object 1, 30-39 object 2, ... (README of the data set).
-int ObjectOf(std::uint32_t label) { return label >= 20 ? static_cast<int>(label / 10) - 1 : 0; }
-bool IsTable(std::uint32_t label) { return label >= 1 && label <= 9; }
-
-// A labelled face: its plane (normal toward the camera) and its pixels (v * width + u, ascending).
-struct LabelledFace {
-  Plane plane;
-  std::vector<int> points;
-};
-
-// The largest 4-connected piece in the image of a RANSAC plane's inliers (given as positions in
-// indices), refitted by least squares: a face is one connected patch, and labels sometimes hold a
-// stray patch of points elsewhere that lies near the plane by chance and would tilt it.
-LabelledFace LargestPiece(const Cloud& cloud, const std::vector<int>& indices, const pcl::Indices& inliers,
-                          const Plane& ransac) {
-  cv::Mat1b mask = cv::Mat1b::zeros(cloud.height, cloud.width);
-  for (int i : inliers) mask(indices[i] / cloud.width, indices[i] % cloud.width) = 1;
-  cv::Mat1i pieces, stats;
-  cv::Mat centroids;
-  const int count = cv::connectedComponentsWithStats(mask, pieces, stats, centroids, 4);
-  int largest = 1;
-  for (int k = 2; k < count; ++k) {
-    if (stats(k, cv::CC_STAT_AREA) > stats(largest, cv::CC_STAT_AREA)) largest = k;
-  }
-  LabelledFace face{ransac, {}};
-  PointMoments moments;
-  for (int v = 0; v < pieces.rows; ++v) {
-    for (int u = 0; u < pieces.cols; ++u) {
-      if (pieces(v, u) != largest) continue;
-      face.points.push_back(v * pieces.cols + u);
-      moments.Add(cloud[face.points.back()].getVector3fMap().cast<double>());
-    }
-  }
-  const PlaneFit fit = FitPlane(moments);
-  if (fit.ok) face.plane = fit.plane;
-  return face;
-}
-
-// Planes through the given points by PCL's RANSAC (fixed seed), one after another, each of at
-// least 400 points (the segmenters' smallest plane) within 5 mm, each kept to its largest piece.
-std::vector<LabelledFace> SacPlanes(const Cloud& cloud, const std::vector<int>& indices, int max_planes) {
-  auto points = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  for (int i : indices) points->push_back(pcl::PointXYZ(cloud[i].x, cloud[i].y, cloud[i].z));
-  pcl::SACSegmentation<pcl::PointXYZ> sac;
-  sac.setOptimizeCoefficients(true);
-  sac.setModelType(pcl::SACMODEL_PLANE);
-  sac.setMethodType(pcl::SAC_RANSAC);
-  sac.setDistanceThreshold(0.005);
-  sac.setMaxIterations(1000);
-  sac.setInputCloud(points);
-  auto remaining = std::make_shared<pcl::Indices>(points->size());
-  std::iota(remaining->begin(), remaining->end(), 0);
-  std::vector<LabelledFace> faces;
-  while (static_cast<int>(faces.size()) < max_planes && remaining->size() >= 400) {
-    pcl::PointIndices inliers;
-    pcl::ModelCoefficients c;
-    sac.setIndices(remaining);
-    sac.segment(inliers, c);
-    if (inliers.indices.size() < 400) break;
-    Eigen::Vector3d n(c.values[0], c.values[1], c.values[2]);
-    double offset = c.values[3] / n.norm();
-    n.normalize();
-    if (offset < 0) {  // toward the camera at the origin
-      n = -n;
-      offset = -offset;
-    }
-    std::sort(inliers.indices.begin(), inliers.indices.end());
-    faces.push_back(LargestPiece(cloud, indices, inliers.indices, Plane{n, offset}));
-    auto next = std::make_shared<pcl::Indices>();
-    std::set_difference(remaining->begin(), remaining->end(), inliers.indices.begin(), inliers.indices.end(),
-                        std::back_inserter(*next));
-    remaining = next;
-  }
-  return faces;
-}
-
-// Each labelled box's faces: planes through its labelled points (at most four).
-std::map<int, std::vector<LabelledFace>> LabelledFaces(const Cloud& cloud, const std::vector<std::uint32_t>& labels) {
-  std::map<int, std::vector<int>> points;
-  for (size_t i = 0; i < labels.size(); ++i) {
-    if (ObjectOf(labels[i]) > 0 && IsValidPoint(cloud[i])) points[ObjectOf(labels[i])].push_back(static_cast<int>(i));
-  }
-  std::map<int, std::vector<LabelledFace>> faces;
-  for (const auto& [box, indices] : points) faces[box] = SacPlanes(cloud, indices, 4);
-  return faces;
 }
 
 // A top (within 15 deg of horizontal) and two sides (within 15 deg of vertical, at least 60 deg
@@ -161,24 +67,20 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f, int on
   // The table: the floor of this frame, mostly table-labelled points, in no object.
   if (model.floor >= 0) {
     int table = 0;
-    for (int i : model.planes[model.floor].inliers) table += IsTable(pcd.labels[i]);
+    for (int i : model.planes[model.floor].inliers) table += IsOsdTable(pcd.labels[i]);
     if (table > 0.7 * model.planes[model.floor].inliers.size()) ++f->table_found;
     for (const FrameObject& o : model.objects) {
       f->table_in_object += std::count(o.planes.begin(), o.planes.end(), model.floor) > 0;
     }
   }
-  std::vector<int> table_points;
-  for (size_t i = 0; i < pcd.labels.size(); ++i) {
-    if (IsTable(pcd.labels[i]) && IsValidPoint((*pcd.cloud)[i])) table_points.push_back(static_cast<int>(i));
-  }
-  const std::vector<LabelledFace> table = SacPlanes(*pcd.cloud, table_points, 1);
+  const std::vector<LabelledFace> table = LabelledTable(*pcd.cloud, pcd.labels);
   ASSERT_EQ(table.size(), 1u) << "learn" << index << ": no plane through the table's labelled points";
   const Eigen::Vector3d table_up = table[0].plane.normal;
   // Which labelled box each detected plane belongs to (70% of its inliers).
   std::map<int, std::vector<int>> planes_of_box;
   for (const DetectedPlane& p : model.planes) {
     std::map<int, int> votes;
-    for (int i : p.inliers) ++votes[ObjectOf(pcd.labels[i])];
+    for (int i : p.inliers) ++votes[OsdObjectOf(pcd.labels[i])];
     for (const auto& [box, n] : votes) {
       if (box > 0 && n > 0.7 * p.inliers.size()) planes_of_box[box].push_back(p.id);
     }
@@ -211,7 +113,7 @@ void EvaluateOsdScene(int index, const Frontend& frontend, BoxFigures* f, int on
     std::set<int> mine, truth;
     for (int p : found->planes) mine.insert(model.planes[p].inliers.begin(), model.planes[p].inliers.end());
     for (size_t i = 0; i < pcd.labels.size(); ++i) {
-      if (ObjectOf(pcd.labels[i]) == box && IsValidPoint((*pcd.cloud)[i])) truth.insert(static_cast<int>(i));
+      if (OsdObjectOf(pcd.labels[i]) == box && IsValidPoint((*pcd.cloud)[i])) truth.insert(static_cast<int>(i));
     }
     int both = 0;
     for (int i : mine) both += truth.count(i);
@@ -423,7 +325,7 @@ const FrameObject* Learn17LowerBox(const FrameModel& model, const PcdFrame& pcd)
     bool all = true;
     for (int p : o.planes) {
       int mine = 0;
-      for (int i : model.planes[p].inliers) mine += ObjectOf(pcd.labels[i]) == 1;
+      for (int i : model.planes[p].inliers) mine += OsdObjectOf(pcd.labels[i]) == 1;
       all = all && mine > 0.7 * model.planes[p].inliers.size();
     }
     if (all) lower = &o;
@@ -435,7 +337,7 @@ const FrameObject* Learn17LowerBox(const FrameModel& model, const PcdFrame& pcd)
 double LabelledExtent(const PcdFrame& pcd, int box, const Eigen::Vector3d& axis) {
   std::vector<double> along;
   for (size_t i = 0; i < pcd.labels.size(); ++i) {
-    if (ObjectOf(pcd.labels[i]) == box && IsValidPoint((*pcd.cloud)[i])) {
+    if (OsdObjectOf(pcd.labels[i]) == box && IsValidPoint((*pcd.cloud)[i])) {
       along.push_back(axis.dot((*pcd.cloud)[i].getVector3fMap().cast<double>()));
     }
   }
@@ -562,6 +464,28 @@ TEST(RealFrames, AFrontsLastPixelsThatNoPlaneTookMeasureItsWidthAsItsFringe) {
     } else {
       EXPECT_LT(lower->dimensions[1], labelled - 0.01) << "m";
     }
+  }
+}
+
+TEST(RealFrames, OsdSurfacesAreTheTableThenEachBoxsFaces) {
+  PLANEMAP_REQUIRE_SHARED("data/osd_boxes_learn/pcd/learn17.pcd");
+  // What bench_frontend evaluates the segmenters' planes against: learn17's table, then the faces
+  // of its two stacked boxes, as the tests above find them.
+  const PcdFrame pcd = LoadOrganizedPcd(SharedPath("data/osd_boxes_learn/pcd/learn17.pcd"), OpenNi());
+  std::vector<LabelledFace> expected = LabelledTable(*pcd.cloud, pcd.labels);
+  ASSERT_EQ(expected.size(), 1u);
+  for (const auto& [box, faces] : LabelledFaces(*pcd.cloud, pcd.labels)) expected.insert(expected.end(), faces.begin(), faces.end());
+  const LabelledSurfaces surfaces = OsdSurfaces(*pcd.cloud, pcd.labels);
+  ASSERT_EQ(surfaces.planes_camera.size(), expected.size());
+  std::map<std::uint16_t, std::vector<int>> pixels;
+  for (size_t i = 0; i < surfaces.labels.size(); ++i) {
+    if (surfaces.labels.pixels()[i] != 0) pixels[surfaces.labels.pixels()[i]].push_back(static_cast<int>(i));
+  }
+  for (size_t k = 0; k < expected.size(); ++k) {
+    const std::uint16_t surface = static_cast<std::uint16_t>(k + 1);
+    EXPECT_EQ(pixels[surface], expected[k].points) << "surface " << surface;
+    const Plane& plane = surfaces.planes_camera.at(surface);
+    EXPECT_TRUE(plane.normal == expected[k].plane.normal && plane.offset == expected[k].plane.offset) << "surface " << surface;
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // A minimal row-major image. Core stays free of OpenCV; io/ and sim/ convert at their boundary.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
