@@ -133,6 +133,32 @@ TEST(Cli, MapWithNoReadableFrameIsAnError) {
   EXPECT_NE(map.output.find("planemap map: error: " + out + ": none of its 2 frames could be read"), std::string::npos) << map.output;
 }
 
+// map reads frame k+1 and runs its frontend on a second thread while frame k is tracked: an
+// unreadable frame in the middle is still named and skipped in its place, the frames around it are
+// tracked, and two runs write the same trajectory byte for byte.
+TEST(Cli, MapSkipsAnUnreadableFrameInTheMiddleAndRunsTheSameTwice) {
+  TempDir dir;
+  const std::string out = dir.File("seq");
+  ASSERT_EQ(Planemap("render --max-frames 4 --out " + out).exit_code, 0);
+  std::vector<std::filesystem::path> depth;
+  for (const auto& entry : std::filesystem::directory_iterator(out + "/depth")) depth.push_back(entry.path());
+  std::sort(depth.begin(), depth.end());
+  ASSERT_EQ(depth.size(), 4u);
+  std::ofstream(depth[2]) << "not a PNG";
+  std::string trajectories[2];
+  for (int run = 0; run < 2; ++run) {
+    const std::string map_dir = dir.File("map" + std::to_string(run));
+    const CommandRun map = Planemap("map " + out + " --out " + map_dir);
+    ASSERT_EQ(map.exit_code, 0) << map.output;
+    EXPECT_NE(map.output.find("frame 2 skipped"), std::string::npos) << map.output;
+    EXPECT_NE(map.output.find("frames 3: tracked 3, degraded 0, lost 0, unreadable 1"), std::string::npos) << map.output;
+    std::ifstream file(map_dir + "/trajectory.txt");
+    trajectories[run].assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  }
+  EXPECT_EQ(std::count(trajectories[0].begin(), trajectories[0].end(), '\n'), 2 + 3) << trajectories[0];  // 2 comment lines
+  EXPECT_EQ(trajectories[0], trajectories[1]);
+}
+
 TEST(Cli, FramePrintsTheModelAsJsonAndWritesOverlayAndPly) {
   TempDir dir;
   const std::string seq = dir.File("seq");
