@@ -19,9 +19,12 @@ std::unique_ptr<PlaneSegmenter> MakePlaneSegmenter(const SegmenterConfig& config
   throw std::invalid_argument("segmentation.method: unknown method '" + config.method + "' (known: organized, msac)");
 }
 
-PointMoments InlierMoments(const Cloud& cloud, const std::vector<int>& inliers, Box3* bounds) {
-  // PointMoments::Add's sums, the six distinct ones of the symmetric outer product only, in
-  // scalars the compiler keeps in registers.
+namespace {
+
+// PointMoments::Add's sums over the inliers, the six distinct ones of the symmetric outer product
+// only, in scalars the compiler keeps in registers; with kBounds, their box into *bounds too.
+template <bool kBounds>
+PointMoments SumInliers(const Cloud& cloud, const std::vector<int>& inliers, Box3* bounds) {
   double w = 0.0, sx = 0.0, sy = 0.0, sz = 0.0, sxx = 0.0, sxy = 0.0, sxz = 0.0, syy = 0.0, syz = 0.0, szz = 0.0;
   float low[3] = {1e30f, 1e30f, 1e30f}, high[3] = {-1e30f, -1e30f, -1e30f};
   const pcl::PointXYZRGB* const points = cloud.points.data();
@@ -34,19 +37,27 @@ PointMoments InlierMoments(const Cloud& cloud, const std::vector<int>& inliers, 
     sx += wx, sy += wy, sz += wz;
     sxx += wx * x, sxy += wx * y, sxz += wx * z;
     syy += wy * y, syz += wy * z, szz += wz * z;
-    low[0] = std::min(low[0], p.x), low[1] = std::min(low[1], p.y), low[2] = std::min(low[2], p.z);
-    high[0] = std::max(high[0], p.x), high[1] = std::max(high[1], p.y), high[2] = std::max(high[2], p.z);
+    if constexpr (kBounds) {
+      low[0] = std::min(low[0], p.x), low[1] = std::min(low[1], p.y), low[2] = std::min(low[2], p.z);
+      high[0] = std::max(high[0], p.x), high[1] = std::max(high[1], p.y), high[2] = std::max(high[2], p.z);
+    }
   }
   PointMoments moments;
   moments.n = static_cast<double>(inliers.size());
   moments.w = w;
   moments.sum = Eigen::Vector3d(sx, sy, sz);
   moments.sum_outer << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
-  if (bounds != nullptr && !inliers.empty()) {
+  if (kBounds && !inliers.empty()) {
     bounds->Extend(Eigen::Vector3d(low[0], low[1], low[2]));
     bounds->Extend(Eigen::Vector3d(high[0], high[1], high[2]));
   }
   return moments;
+}
+
+}  // namespace
+
+PointMoments InlierMoments(const Cloud& cloud, const std::vector<int>& inliers, Box3* bounds) {
+  return bounds != nullptr ? SumInliers<true>(cloud, inliers, bounds) : SumInliers<false>(cloud, inliers, nullptr);
 }
 
 DetectedPlane FitDetectedPlane(const Cloud& cloud, std::vector<int> inliers) {
@@ -208,9 +219,7 @@ void MergeCoplanar(const Cloud& cloud, const SegmenterConfig& config, std::vecto
                    inliers.begin());
         const PixelBox box_a = box_of(a), box_b = box_of(b);
         Box3 bounds = InlierBounds(cloud, pa);
-        const Box3 bounds_b = InlierBounds(cloud, pb);
-        bounds.low = bounds.low.cwiseMin(bounds_b.low);
-        bounds.high = bounds.high.cwiseMax(bounds_b.high);
+        bounds.Extend(InlierBounds(cloud, pb));
         DetectedPlane both = MakeDetectedPlane(both_fit, std::move(inliers), bounds);
         both.strip = pa.strip;  // strips merge with strips only (a strip is no landmark)
         (*planes)[a] = std::move(both);

@@ -34,6 +34,10 @@ struct Box3 {
     low = low.cwiseMin(p);
     high = high.cwiseMax(p);
   }
+  void Extend(const Box3& o) {
+    low = low.cwiseMin(o.low);
+    high = high.cwiseMax(o.high);
+  }
   // Length of the diagonal; 0 when empty [m].
   double Diagonal() const { return Empty() ? 0.0 : (high - low).norm(); }
 };
