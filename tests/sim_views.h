@@ -18,6 +18,12 @@ using planemap::LookAt;  // core/pose.h
 // whose exact render shows them.
 std::vector<Pose3> BoxViewpoints();
 
+// Viewpoints of the default scene's box at 1-3 m from which it shows two faces only, each with
+// 1500+ pixels and every other face under 100 (fewer than a plane needs): its top and one side
+// (+x or -y), from 0.7-1.3 m high in front of that side; or those two sides, from 0.12-0.18 m
+// high (below its top, 0.25 m). From a grid as BoxViewpoints, kept by the exact render.
+std::vector<Pose3> BoxTwoFaceViewpoints();
+
 struct SimFrame {
   RgbdFrame frame;
   LabelImage labels;

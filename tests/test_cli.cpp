@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "planemap/apps/study.h"
@@ -557,9 +558,9 @@ TEST(Cli, ApproachTraceHasEveryFrameAndTheEstimateAgainstTheTruth) {
 }
 
 // A real sequence's map holds each physical object once, and every object it prints has all
-// three dimensions measured (whole or as a lower bound). ICL-NUIM kt0 sees one box-like object
-// (a cabinet's corner, 3.9 m away): 2 objects before views that measured no dimension along an
-// axis were left out and overlapping cuboids matched (0.000 printed for unmeasured dimensions).
+// three dimensions measured (whole or as a lower bound). ICL-NUIM kt0 saw its cabinet's corner
+// (3.9 m away) as 2 objects before views that measured no dimension along an axis were left out
+// and overlapping cuboids matched (0.000 printed for unmeasured dimensions).
 TEST(Cli, MapOfARealSequenceHoldsEachObjectOnceAndMeasured) {
   PLANEMAP_REQUIRE_SHARED("data/icl_office_kt0");
   PLANEMAP_REQUIRE_SHARED("data/tum_fr1_rpy_slice");
@@ -574,6 +575,7 @@ TEST(Cli, MapOfARealSequenceHoldsEachObjectOnceAndMeasured) {
     ASSERT_EQ(run.exit_code, 0) << run.output;
     std::istringstream lines(run.output);
     std::vector<std::array<double, 3>> objects;
+    std::vector<Eigen::Vector3d> centres;
     for (std::string line; std::getline(lines, line);) {
       if (line.rfind("  object ", 0) != 0) continue;
       std::array<double, 3> d{};
@@ -581,10 +583,19 @@ TEST(Cli, MapOfARealSequenceHoldsEachObjectOnceAndMeasured) {
       ASSERT_EQ(std::sscanf(line.c_str() + at, "%lf x %lf x %lf", &d[0], &d[1], &d[2]), 3) << line;
       for (double v : d) EXPECT_GT(v, 0.0) << sequence << ": " << line;
       objects.push_back(d);
+      Eigen::Vector3d c;
+      ASSERT_EQ(std::sscanf(line.c_str() + line.find("centre (") + 8, "%lf, %lf, %lf", &c[0], &c[1], &c[2]), 3) << line;
+      centres.push_back(c);
     }
     std::printf("%s: %zu objects\n", sequence.c_str(), objects.size());
+    // Once each: no two objects' centres within 10 cm of each other.
+    for (size_t a = 0; a < centres.size(); ++a) {
+      for (size_t b = a + 1; b < centres.size(); ++b) EXPECT_GT((centres[a] - centres[b]).norm(), 0.1) << sequence << run.output;
+    }
     if (sequence == "icl_office_kt0") {
-      EXPECT_EQ(objects.size(), 1u) << run.output;
+      // The cabinet's corner, and since objects of two faces (issue 56) a desk's top and front
+      // standing on the floor, seen once 4 m away.
+      EXPECT_LE(objects.size(), 2u) << run.output;
     }
   }
 }

@@ -49,7 +49,7 @@ void Frontend::FindEdges(const Cloud& cloud, FrameModel* model) const {
 void Frontend::FindObjects(const Cloud& cloud, FrameModel* model) const {
   // 4. Plane graph, trihedral angles, objects aggregated angle by angle (the structure is known).
   FindFaces(cloud, config_.graph, model);
-  AggregateObjects(config_.graph, model);
+  AggregateObjects(cloud, config_.graph, model);
   // 5. Dimensions, centre (eq. 7), grasp sides and axis; then the class, which may use height.
   MeasureObjects(cloud, config_.objects, UpPrior(config_.graph), model);
   ClassifyObjects(patterns_, config_.objects, Up(*model), model);

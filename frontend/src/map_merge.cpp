@@ -240,7 +240,7 @@ int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map) {
 void RebuildObjects(const ObjectModel& model, double object_match_distance, PlaneMap* map) {
   Cloud cloud;
   FrameModel graph = MapGraph(*map, model.graph, &cloud);
-  AggregateObjects(model.graph, &graph);
+  AggregateObjects(cloud, model.graph, &graph);
   // Up: the floor's normal, else the configured camera up in the first keyframe's camera.
   Eigen::Vector3d up = UpPrior(model.graph);
   if (graph.floor >= 0) {
@@ -330,7 +330,7 @@ void RebuildObjects(const ObjectModel& model, double object_match_distance, Plan
 std::vector<Eigen::Vector3d> MapCorners(const PlaneMap& map, const PlaneGraphConfig& config) {
   Cloud cloud;
   FrameModel graph = MapGraph(map, config, &cloud);
-  AggregateObjects(config, &graph);
+  AggregateObjects(cloud, config, &graph);
   std::vector<Eigen::Vector3d> corners;
   for (const TrihedralAngle& angle : graph.angles) corners.push_back(angle.corner);
   return corners;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -10,6 +11,8 @@
 #include <Eigen/Geometry>
 
 #include "planemap/core/error.h"
+#include "planemap/core/statistics.h"
+#include "planemap/frontend/intersections.h"
 
 namespace planemap {
 namespace {
@@ -30,9 +33,11 @@ struct Matcher {
   std::vector<std::pair<int, int>> edges;      // pattern edges as node indices
   std::vector<int> assignment;                 // pattern node -> graph node
 
+  int support = -1;                            // plane id of the object's support, -1: none
+
   bool Fits(size_t node, int g) const {
     const std::string& want = pattern.nodes[node].orientation;
-    if (want != "any" && want != orientation[g]) return false;
+    if (want == "support" ? graph[g] != support : (want != "any" && want != orientation[g])) return false;
     if (std::find(assignment.begin(), assignment.begin() + node, g) != assignment.begin() + node) return false;
     for (const auto& [a, b] : edges) {  // edges to nodes already placed
       const size_t other = a == static_cast<int>(node) ? b : (b == static_cast<int>(node) ? a : node);
@@ -122,6 +127,144 @@ void JoinEdgePieces(const ObjectConfig& config, AxisOf&& axis_of, std::vector<Pl
   }
 }
 
+// Whether the camera sees past the end of a face's points at `end` along unit `dir` (ObjectConfig::
+// face_end_*): `mask` marks the face's pixels in the organized cloud.
+bool SeesPastEnd(const Cloud& cloud, const std::vector<char>& mask, const std::vector<int>& inliers,
+                 const Plane& plane, const Eigen::Vector3d& dir, double end, const ObjectConfig& config) {
+  if (cloud.height <= 1) return false;  // not organized: nothing to look past
+  const int width = static_cast<int>(cloud.width), height = static_cast<int>(cloud.height);
+  // Which way the end lies in the image: the gradient of the distance along dir over the face's
+  // pixels (least squares, t = a u + b v + c); only the directions within 60 deg of it look past it.
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (int i : inliers) {
+    const Eigen::Vector3d row(i % width, i / width, 1.0);
+    normal_matrix += row * row.transpose();
+    rhs += row * dir.dot(cloud[i].getVector3fMap().cast<double>());
+  }
+  const Eigen::Vector3d fit = normal_matrix.ldlt().solve(rhs);
+  const Eigen::Vector2d outward(fit[0], fit[1]);
+  if (!outward.allFinite() || outward.norm() == 0.0) return false;
+  int free = 0, hidden = 0, undecided = 0;
+  for (int i : inliers) {
+    const Eigen::Vector3d x = cloud[i].getVector3fMap().cast<double>();
+    if (dir.dot(x) < end - config.face_end_band) continue;
+    const int u = i % width, v = i / width;
+    for (int du = -1; du <= 1; ++du) {
+      for (int dv = -1; dv <= 1; ++dv) {
+        if ((du == 0 && dv == 0) || Eigen::Vector2d(du, dv).normalized().dot(outward.normalized()) < 0.5) continue;
+        // The first pixel with depth beyond the face's own (and beyond its unsegmented fringe on
+        // its plane, and a silhouette's missing depth) decides; none within face_end_search: the
+        // face may go on unseen.
+        bool decided = false, left_face = false;
+        for (int step = 1; step <= config.face_end_search && !decided; ++step) {
+          const int qu = u + step * du, qv = v + step * dv;
+          if (qu < 0 || qv < 0 || qu >= width || qv >= height) {
+            left_face = true;  // the image ends
+            break;
+          }
+          const int q = qv * width + qu;
+          if (mask[q]) continue;
+          left_face = true;
+          if (!IsValidPoint(cloud[q])) continue;
+          const Eigen::Vector3d y = cloud[q].getVector3fMap().cast<double>();
+          const Eigen::Vector3d on_plane = AlongRayOntoPlane(plane, y);
+          if (dir.dot(on_plane) <= dir.dot(x)) {
+            decided = true;  // not beyond the end: no vote
+            continue;
+          }
+          const double behind = y.norm() - on_plane.norm();
+          if (std::abs(behind) < config.face_end_gap) continue;  // the face's plane goes on
+          decided = true;
+          (behind > 0.0 ? free : hidden) += 1;  // the camera sees past the face, or something hides it
+        }
+        if (!decided && left_face) ++undecided;
+      }
+    }
+  }
+  // Whole: the camera sees past the end where it sees anything there, and past a quarter of it at
+  // least (the rest may have no depth: a silhouette's shadow, a background out of range).
+  return free > 0 && free >= config.face_end_free_share * (free + hidden) &&
+         free >= config.face_end_min_seen * (free + hidden + undecided);
+}
+
+// One end of an object's extent along an axis.
+struct AxisEnd {
+  double at = 0.0;     // along the axis [m]
+  bool whole = false;  // the object ends there
+  bool plane = false;  // on a bounding plane (a face across the axis, or the support)
+};
+
+// Steps 2 (the axes no edge measured) and 3 for an object of two faces (FrameObject::support): along
+// each axis, each end on a face across it (the object lies behind its faces: normals point to the
+// camera) or on the support (the object lies above it); else at the end of the points of the faces
+// along it, whole when the camera sees past it. Both ends on planes, or no complete edge: the
+// dimension is theirs. The centre lies halfway between the ends.
+void MeasureTwoFaceObject(const Cloud& cloud, const ObjectConfig& config, const FrameModel& model,
+                          const std::map<int, size_t>& face_size, FrameObject* object) {
+  const double axis_cos = std::cos(config.axis_tolerance_deg * kDegToRad);
+  const double along_sin = std::sin(config.axis_tolerance_deg * kDegToRad);
+  std::vector<char> mask(cloud.size(), 0);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  // Where a bounding plane lies along an axis is read beneath (or behind) the object's faces'
+  // centroid: a plane a few degrees off the axis lies elsewhere further away.
+  Eigen::Vector3d reference = Eigen::Vector3d::Zero();
+  for (int p : object->planes) reference += model.planes[p].centroid;
+  reference /= static_cast<double>(object->planes.size());
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d a = object->axes.col(k);
+    std::optional<AxisEnd> low, high;
+    auto bound = [&](const Plane& plane, bool object_in_front) {
+      const double c = plane.normal.dot(a);
+      if (std::abs(c) < axis_cos) return;
+      const AxisEnd end{a.dot(reference) - plane.SignedDistance(reference) / c, true, true};
+      // The object lies on the side of the plane its normal points to (the support) or away from it.
+      ((c > 0) == object_in_front ? low : high) = end;
+    };
+    for (const auto& [f, size] : face_size) bound(model.FacePlane(f), false);
+    bound(model.FacePlane(object->support), true);
+    // The faces running along the axis: their points' extent.
+    std::optional<AxisEnd> seen_low, seen_high;
+    for (const auto& [f, size] : face_size) {
+      if (std::abs(model.FacePlane(f).normal.dot(a)) > along_sin) continue;
+      std::vector<int> inliers;
+      for (int p : object->planes) {
+        if (model.FaceOf(p) == f) inliers.insert(inliers.end(), model.planes[p].inliers.begin(), model.planes[p].inliers.end());
+      }
+      if (inliers.empty()) continue;
+      std::vector<double> t;
+      t.reserve(inliers.size());
+      for (int i : inliers) {
+        t.push_back(a.dot(cloud[i].getVector3fMap().cast<double>()));
+        mask[i] = 1;
+      }
+      const double lo = Percentile(t, 0.01), hi = Percentile(t, 0.99);
+      const Plane& plane = model.FacePlane(f);
+      if (!seen_low || lo < seen_low->at) seen_low = AxisEnd{lo, SeesPastEnd(cloud, mask, inliers, plane, -a, -lo, config), false};
+      if (!seen_high || hi > seen_high->at) seen_high = AxisEnd{hi, SeesPastEnd(cloud, mask, inliers, plane, a, hi, config), false};
+      for (int i : inliers) mask[i] = 0;
+    }
+    if (!low) low = seen_low;
+    if (!high) high = seen_high;
+    if (!low || !high || high->at <= low->at) {
+      centre[k] = low ? low->at : (high ? high->at : 0.0);
+      continue;
+    }
+    const double length = high->at - low->at;
+    const bool complete = low->whole && high->whole;
+    const bool exact = low->plane && high->plane;
+    const bool edge_complete = object->dimension_complete[k] && object->dimensions[k] > 0.0;
+    if (exact || (!edge_complete && (complete || length > object->dimensions[k]))) {
+      object->dimensions[k] = length;
+      object->dimension_complete[k] = complete;
+    }
+    // The centre: half the dimension in from a bounding plane, else the middle of what is seen.
+    const double half = 0.5 * object->dimensions[k];
+    centre[k] = low->plane ? low->at + half : (high->plane ? high->at - half : 0.5 * (low->at + high->at));
+  }
+  object->center = object->axes * centre;
+}
+
 }  // namespace
 
 PatternsConfig LoadPatterns(const std::string& file) {
@@ -174,18 +317,23 @@ void ClassifyObjects(const PatternsConfig& patterns, const ObjectConfig& config,
     object.label = "unknown";
     std::vector<int> graph = object.planes;
     if (model->floor >= 0) graph.push_back(model->floor);
+    if (object.support >= 0 && object.support != model->floor) graph.push_back(object.support);
+    // An object of two faces is upright on its support.
+    const Eigen::Vector3d object_up = object.support >= 0 ? model->FacePlane(object.support).normal : up;
     std::vector<std::string> orientation;
-    for (int p : graph) orientation.push_back(Orientation(*model, p, up, config.orientation_tolerance_deg * kDegToRad));
+    for (int p : graph) orientation.push_back(Orientation(*model, p, object_up, config.orientation_tolerance_deg * kDegToRad));
     // The height is known when the top is seen or a vertical edge is complete; otherwise the
     // object may go on beyond the image and its height only bounds the true one from below.
     const double height = object.height;
     object.height_known = object.dimension_complete[2];
-    for (size_t g = 0; g < graph.size(); ++g) object.height_known = object.height_known || orientation[g] == "horizontal";
+    for (size_t g = 0; g < graph.size(); ++g) {
+      object.height_known = object.height_known || (orientation[g] == "horizontal" && graph[g] != object.support);
+    }
     const bool height_known = object.height_known;
     for (const GraphPattern& pattern : patterns.patterns) {
       if (pattern.max_height > 0 && (height > pattern.max_height || !height_known)) continue;
       if (pattern.min_height > 0 && height < pattern.min_height && height_known) continue;
-      Matcher matcher{pattern, *model, graph, orientation, {}, std::vector<int>(pattern.nodes.size(), -1)};
+      Matcher matcher{pattern, *model, graph, orientation, {}, std::vector<int>(pattern.nodes.size(), -1), object.support};
       for (const std::string& e : pattern.edges) {
         const auto [a, b] = SplitEdge(e);
         int ia = -1, ib = -1;
@@ -214,8 +362,9 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
     //    max_up_tilt_deg of it: a hand-held camera rolls, and its up is not the object's.
     std::map<int, size_t> face_size;
     for (int p : object.planes) face_size[model->FaceOf(p)] += model->planes[p].inliers.size();
-    Eigen::Vector3d up = scene_up;
-    if (model->floor < 0) {
+    const bool two_faces = object.angles.empty() && object.support >= 0;
+    Eigen::Vector3d up = two_faces ? model->FacePlane(object.support).normal : scene_up;
+    if (model->floor < 0 && !two_faces) {
       double best = std::cos(config.max_up_tilt_deg * kDegToRad);
       for (const auto& [f, size] : face_size) {
         const Eigen::Vector3d& n = model->FacePlane(f).normal;
@@ -242,6 +391,7 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
     //    its whole extent.
     std::set<int> members(object.planes.begin(), object.planes.end());
     if (model->floor >= 0) members.insert(model->floor);
+    if (object.support >= 0) members.insert(object.support);
     object.dimensions.setZero();
     object.dimension_complete = {false, false, false};
     auto axis_of = [&](const Eigen::Vector3d& d) {
@@ -294,6 +444,7 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
       ++count;
     }
     object.center = count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero();
+    if (two_faces) MeasureTwoFaceObject(cloud, config, *model, face_size, &object);
 
     // 4. Grasp sides: vertical faces across which the object is as wide as the hands can span,
     //    on an object low enough; the chosen side is the one facing the camera most.

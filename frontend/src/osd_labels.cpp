@@ -1,6 +1,7 @@
 #include "planemap/frontend/osd_labels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <memory>
 #include <numeric>
@@ -13,6 +14,8 @@
 #include <pcl/segmentation/sac_segmentation.h>
 
 #include "planemap/core/detected_plane.h"
+#include "planemap/core/pose.h"
+#include "planemap/core/statistics.h"
 
 namespace planemap {
 namespace {
@@ -128,6 +131,97 @@ LabelledSurfaces OsdSurfaces(const Cloud& cloud, const std::vector<std::uint32_t
     for (const LabelledFace& face : faces) add(face);
   }
   return surfaces;
+}
+
+int OsdFacesShown(const std::vector<LabelledFace>& faces, const Eigen::Vector3d& up) {
+  const double horizontal = std::cos(15.0 * M_PI / 180.0), vertical = std::sin(15.0 * M_PI / 180.0);
+  const double apart = std::cos(60.0 * M_PI / 180.0);
+  bool top = false, two_sides = false, two_faces = false;
+  for (size_t a = 0; a < faces.size(); ++a) {
+    const Eigen::Vector3d& na = faces[a].plane.normal;
+    top = top || std::abs(na.dot(up)) > horizontal;
+    for (size_t b = a + 1; b < faces.size(); ++b) {
+      const Eigen::Vector3d& nb = faces[b].plane.normal;
+      if (std::abs(na.dot(nb)) > apart) continue;
+      two_faces = true;
+      two_sides = two_sides || (std::abs(na.dot(up)) < vertical && std::abs(nb.dot(up)) < vertical);
+    }
+  }
+  return top && two_sides ? 3 : (two_faces ? 2 : 1);
+}
+
+double OsdLabelledExtent(const Cloud& cloud, const std::vector<int>& points, const Eigen::Vector3d& axis,
+                         const Plane& table) {
+  std::vector<double> along, height;
+  for (int i : points) {
+    const Eigen::Vector3d x = cloud[i].getVector3fMap().cast<double>();
+    along.push_back(axis.dot(x));
+    height.push_back(table.SignedDistance(x));
+  }
+  if (points.empty()) return 0.0;
+  if (std::abs(axis.dot(table.normal)) > std::cos(10.0 * M_PI / 180.0) && Percentile(height, 0.01) < 0.02) {
+    return Percentile(height, 0.99);
+  }
+  return Percentile(along, 0.99) - Percentile(along, 0.01);
+}
+
+OsdBoxScore ScoreOsdBoxes(const Cloud& cloud, const std::vector<std::uint32_t>& labels, const FrameModel& model) {
+  constexpr double kCentreMargin = 0.03, kCuboidMargin = 0.02;  // [m]
+  OsdBoxScore score;
+  const std::vector<LabelledFace> table = LabelledTable(cloud, labels);
+  if (table.empty()) return score;
+  std::map<int, std::vector<int>> points;
+  for (size_t i = 0; i < labels.size(); ++i) {
+    if (OsdObjectOf(labels[i]) > 0 && IsValidPoint(cloud[i])) points[OsdObjectOf(labels[i])].push_back(static_cast<int>(i));
+  }
+  std::map<int, Box3> bounds;
+  for (const auto& [box, indices] : points) {
+    for (int i : indices) bounds[box].Extend(cloud[i].getVector3fMap().cast<double>());
+  }
+  const auto centre_in = [&](const FrameObject& o, int box) {
+    const Box3& b = bounds.at(box);
+    return ((o.center.array() >= b.low.array() - kCentreMargin) && (o.center.array() <= b.high.array() + kCentreMargin)).all();
+  };
+  const auto held = [&](const FrameObject& o, const std::vector<int>& indices) {
+    const Eigen::Array3d half = 0.5 * o.dimensions.array() + kCuboidMargin;
+    int inside = 0;
+    for (int i : indices) {
+      const Eigen::Vector3d local = o.axes.transpose() * (cloud[i].getVector3fMap().cast<double>() - o.center);
+      inside += (local.array().abs() <= half).all();
+    }
+    return indices.empty() ? 0.0 : static_cast<double>(inside) / indices.size();
+  };
+  for (const auto& [box, faces] : LabelledFaces(cloud, labels)) {
+    OsdBoxResult result;
+    result.box = box;
+    result.faces_shown = OsdFacesShown(faces, table[0].plane.normal);
+    const std::vector<int>& indices = points.at(box);
+    for (size_t k = 0; k < model.objects.size(); ++k) {
+      const FrameObject& o = model.objects[k];
+      if (o.label != "box" || !centre_in(o, box)) continue;
+      const double share = held(o, indices);
+      if (share >= 0.5 && share > result.held) {
+        result.held = share;
+        result.object = static_cast<int>(k);
+      }
+    }
+    if (result.object >= 0) {
+      const FrameObject& o = model.objects[result.object];
+      for (int k = 0; k < 3; ++k) {
+        if (!o.dimension_complete[k]) continue;
+        result.dimension_error.push_back(std::abs(o.dimensions[k] - OsdLabelledExtent(cloud, indices, o.axes.col(k), table[0].plane)));
+      }
+    }
+    score.boxes.push_back(std::move(result));
+  }
+  for (const FrameObject& o : model.objects) {
+    if (o.label != "box") continue;
+    ++score.box_objects;
+    bool near_a_box = false;
+    for (const auto& [box, b] : bounds) near_a_box = near_a_box || centre_in(o, box);
+    score.false_boxes += !near_a_box;
+  }
+  return score;
 }
 
 }  // namespace planemap

@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "planemap/core/pose.h"
+
 #include "planemap/frontend/plane_segmenter.h"
 
 namespace planemap {
@@ -21,6 +23,41 @@ double DistanceToSegment(const Eigen::Vector3d& p, const PlaneEdge& e) {
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
+}
+
+// Whether plane `support` is seen beside a face's lowest points (`pixels`: the face's, in an
+// organized cloud; those within two_face_support_gap of `low` over the support): from each, in each
+// of 8 directions in the image, the first pixel with depth past the face's own within 8 pixels
+// lies on the support (within two_face_support_gap) for a tenth of them or more. Not in an
+// unorganized cloud (a map's points).
+bool SupportBeside(const Cloud& cloud, const std::vector<int>& pixels, const Plane& support, double low,
+                   const PlaneGraphConfig& config) {
+  constexpr int kSearch = 8;  // [px]
+  const double gap = config.two_face_support_gap;
+  if (cloud.height <= 1) return false;  // not organized (a map's points): a seen edge is needed
+  const int width = static_cast<int>(cloud.width), height = static_cast<int>(cloud.height);
+  std::vector<char> mask(cloud.size(), 0);
+  for (int i : pixels) mask[i] = 1;
+  int on_support = 0, looks = 0;
+  for (int i : pixels) {
+    if (support.SignedDistance(cloud[i].getVector3fMap().cast<double>()) > low + gap) continue;
+    const int u = i % width, v = i / width;
+    for (int du = -1; du <= 1; ++du) {
+      for (int dv = -1; dv <= 1; ++dv) {
+        if (du == 0 && dv == 0) continue;
+        for (int step = 1; step <= kSearch; ++step) {
+          const int qu = u + step * du, qv = v + step * dv;
+          if (qu < 0 || qv < 0 || qu >= width || qv >= height) break;
+          const int q = qv * width + qu;
+          if (mask[q] || !IsValidPoint(cloud[q])) continue;
+          ++looks;
+          on_support += std::abs(support.SignedDistance(cloud[q].getVector3fMap().cast<double>())) <= gap;
+          break;
+        }
+      }
+    }
+  }
+  return looks > 0 && on_support >= 0.1 * looks;
 }
 
 }  // namespace
@@ -56,7 +93,7 @@ void FindStructure(const Cloud& cloud, const PlaneGraphConfig& config, FrameMode
 void BuildPlaneGraph(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
   FindStructure(cloud, config, model);
   FindFaces(cloud, config, model);
-  AggregateObjects(config, model);
+  AggregateObjects(cloud, config, model);
 }
 
 void FindFaces(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
@@ -128,7 +165,7 @@ void FindFaces(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* m
   }
 }
 
-void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
+void AggregateObjects(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* model) {
   const std::vector<DetectedPlane>& planes = model->planes;
   const size_t n = planes.size();
 
@@ -323,6 +360,111 @@ void AggregateObjects(const PlaneGraphConfig& config, FrameModel* model) {
     kept.push_back(object);  // copied: nook() reads the others' planes
   }
   model->objects = std::move(kept);
+
+  // 3. Objects of two faces on a support (PlaneGraphConfig::two_face_*): a box showing its top
+  //    and front, or two sides, its third face turned away or hidden. Such faces meet in a convex
+  //    edge, as a solid's do; the support a vertical one stands on (a concave edge with a plane
+  //    facing up) tells a box on a table from a table's top and its apron, which stands on
+  //    nothing. Faces joined by such edges are one object (a front with its top and a side).
+  if (config.two_face_min_angle_deg <= 0.0) return;
+  const double cos_apart = std::cos(config.two_face_min_angle_deg * M_PI / 180.0);
+  std::vector<bool> taken(n, false);
+  for (const FrameObject& object : model->objects) {
+    for (int p : object.planes) taken[face(p)] = true;
+  }
+  auto normal = [&](int f) -> const Eigen::Vector3d& { return model->FacePlane(f).normal; };
+  auto vertical = [&](int f) { return std::abs(normal(f).dot(up)) < sin_tilt; };
+  auto facing_up = [&](int f) { return normal(f).dot(up) > cos_tilt; };
+  // The support under vertical face f: a plane facing up that it stands on (at most
+  // two_face_below_share of its points more than two_face_below_distance beneath it) and that
+  // it meets in a seen concave edge, or whose plane its lowest points (1st percentile) reach
+  // within two_face_support_gap of, beside the plane's points (the edge is missed where the
+  // support is seen at a glancing angle); of several, the highest under the face (a box standing
+  // on a lower box stands on the table too, as far as its points go). -1 if none.
+  auto face_pixels = [&](int f) {
+    std::vector<int> pixels;
+    for (int p = 0; p < static_cast<int>(n); ++p) {
+      if (face(p) == f) pixels.insert(pixels.end(), planes[p].inliers.begin(), planes[p].inliers.end());
+    }
+    return pixels;
+  };
+  auto support_of = [&](int f) {
+    if (!vertical(f)) return -1;
+    std::vector<Eigen::Vector3d> points;
+    for (int p = 0; p < static_cast<int>(n); ++p) {
+      if (face(p) != f) continue;
+      for (int i : planes[p].inliers) points.push_back(cloud[i].getVector3fMap().cast<double>());
+    }
+    if (points.empty()) return -1;
+    int support = -1;
+    double lowest = 0.0;  // the face's lowest points' height over the support [m]
+    for (int s = 0; s < static_cast<int>(n); ++s) {
+      if (face(s) != s || s == f || !facing_up(s)) continue;
+      const Plane& plane = model->FacePlane(s);
+      std::vector<double> heights;
+      heights.reserve(points.size());
+      size_t below = 0;
+      for (const Eigen::Vector3d& x : points) {
+        heights.push_back(plane.SignedDistance(x));
+        below += heights.back() < -config.two_face_below_distance;
+      }
+      if (below > config.two_face_below_share * points.size()) continue;
+      const size_t k = static_cast<size_t>(0.01 * heights.size());
+      std::nth_element(heights.begin(), heights.begin() + k, heights.end());
+      const double low = heights[k];
+      bool meets = false;
+      for (const PlaneEdge& e : model->edges) {
+        meets = meets || (!e.hidden && !e.convex && ((face(e.plane_a) == f && face(e.plane_b) == s) ||
+                                                      (face(e.plane_a) == s && face(e.plane_b) == f)));
+      }
+      if (!meets && low <= config.two_face_support_gap) meets = SupportBeside(cloud, face_pixels(f), plane, low, config);
+      if (meets && (support < 0 || low < lowest)) {
+        support = s;
+        lowest = low;
+      }
+    }
+    return support;
+  };
+  std::vector<int> group(n);
+  std::iota(group.begin(), group.end(), 0);
+  std::vector<int> support_of_group(n, -1);
+  for (const PlaneEdge& e : model->edges) {
+    const int a = face(e.plane_a), b = face(e.plane_b);
+    if (e.hidden || !e.convex || a == b || model->structure[a] || model->structure[b] || taken[a] || taken[b] ||
+        std::abs(normal(a).dot(normal(b))) > cos_apart) {
+      continue;
+    }
+    int support = -1;
+    if (vertical(a) && vertical(b)) {
+      const int sa = support_of(a), sb = support_of(b);
+      support = sa >= 0 ? sa : sb;
+    } else if (vertical(a) != vertical(b)) {
+      const int side = vertical(a) ? a : b, top = vertical(a) ? b : a;
+      support = facing_up(top) ? support_of(side) : -1;
+      // The top above the support: the edge's middle, on the top, lies that high over it.
+      if (support >= 0 &&
+          model->FacePlane(support).SignedDistance(0.5 * (e.start + e.end)) < config.two_face_min_height) {
+        support = -1;
+      }
+    }
+    if (support < 0 || support == a || support == b) continue;
+    const int ra = Find(group, a), rb = Find(group, b);
+    const int root = std::min(ra, rb);
+    group[std::max(ra, rb)] = root;
+    const int kept_support = support_of_group[ra] >= 0 ? support_of_group[ra] : support_of_group[rb];
+    support_of_group[root] = kept_support >= 0 ? kept_support : support;
+  }
+  std::vector<int> object_of_group(n, -1);
+  for (int p = 0; p < static_cast<int>(n); ++p) {
+    const int root = Find(group, face(p));
+    if (support_of_group[root] < 0 || model->structure[p] || face(p) == support_of_group[root]) continue;
+    if (object_of_group[root] < 0) {
+      object_of_group[root] = static_cast<int>(model->objects.size());
+      model->objects.emplace_back();
+      model->objects.back().support = support_of_group[root];
+    }
+    model->objects[object_of_group[root]].planes.push_back(p);  // every piece of each face, ascending
+  }
 }
 
 }  // namespace planemap

@@ -71,6 +71,7 @@ std::string FrameModelJson(const FrameModel& model, int indent) {
     json object = {{"class", o.label},
                    {"planes", o.planes},
                    {"trihedral_angles", o.angles},
+                   {"support", o.support},
                    {"dimensions", Vec(o.dimensions)},
                    {"dimension_complete", {o.dimension_complete[0], o.dimension_complete[1], o.dimension_complete[2]}},
                    {"height", o.height},

@@ -45,7 +45,11 @@ struct TrihedralAngle {
 struct FrameObject {
   std::vector<int> planes;  // plane ids of the object's faces, every piece of a face in pieces
                             // (never the floor or other structure)
-  std::vector<int> angles;  // indices into FrameModel::angles
+  std::vector<int> angles;  // indices into FrameModel::angles; empty for an object of two faces
+  // The plane the object stands on (the floor, a table, another object's top), for an object of
+  // two faces (a top and a front, or two sides, meeting in a convex edge), which needs one; -1
+  // for an object built from trihedral angles.
+  int support = -1;
   std::string label = "unknown";  // class from the graph patterns
 
   // Geometry (camera frame). Axes: columns x, y, z with z up (the floor's normal), x the normal

@@ -13,11 +13,13 @@ namespace planemap {
 
 struct PatternNode {
   std::string name;
-  std::string orientation = "any";  // floor | horizontal | vertical | any
+  // floor | horizontal | vertical | any | support (the plane an object of two faces stands on:
+  // the floor, a table, another object's top; FrameObject::support)
+  std::string orientation = "any";
   template <class V>
   void VisitFields(V&& v) {
     v("name", name);
-    v("orientation", orientation, OneOf{{"floor", "horizontal", "vertical", "any"}});
+    v("orientation", orientation, OneOf{{"floor", "horizontal", "vertical", "any", "support"}});
   }
 };
 
@@ -69,6 +71,23 @@ struct ObjectConfig {
   double edge_join_distance = 0.01;
   double edge_join_gap = 0.02;
 
+  // Objects of two faces (FrameObject::support): an axis no edge measures is measured on a face
+  // that runs along it, from its plane's end of the box (a face across the axis, or the support)
+  // to the far end of the face's points (1st to 99th percentile). That end is whole when the
+  // camera sees past it: from each of the face's points within face_end_band of the end, in
+  // each of 8 directions in the image, the first pixel with depth beyond the end, past the face's
+  // own pixels and its plane's, within face_end_search pixels, lies behind the face's plane by
+  // face_end_gap or more, for at least face_end_free_share of them (what lies nearer hides the
+  // face's continuation; no such pixel, or the image's border: it may go on), and for at least
+  // face_end_min_seen of all the directions that leave the face toward the end (the rest may
+  // have no depth: a silhouette's shadow, a background out of range). Only the 8 directions
+  // within 60 deg of the end's in the image look. [m], [px], [fraction], [m], [fraction]
+  double face_end_band = 0.01;
+  int face_end_search = 8;
+  double face_end_free_share = 0.7;
+  double face_end_gap = 0.02;
+  double face_end_min_seen = 0.25;
+
   std::string CrossCheck() const {
     return hand_span_min <= hand_span_max ? "" : "hand_span_min must not exceed hand_span_max";
   }
@@ -84,6 +103,11 @@ struct ObjectConfig {
     v("edge_length_tolerance", edge_length_tolerance, Check::kNonNegative);
     v("edge_join_distance", edge_join_distance, Check::kNonNegative);
     v("edge_join_gap", edge_join_gap, Check::kNonNegative);
+    v("face_end_band", face_end_band, Check::kPositive);
+    v("face_end_search", face_end_search, Check::kPositive);
+    v("face_end_free_share", face_end_free_share, Check::kProbability);
+    v("face_end_gap", face_end_gap, Check::kPositive);
+    v("face_end_min_seen", face_end_min_seen, Check::kProbability);
   }
 };
 
