@@ -143,8 +143,9 @@ bool SeesPastEnd(const Cloud& cloud, const std::vector<char>& mask, const std::v
     rhs += row * dir.dot(cloud[i].getVector3fMap().cast<double>());
   }
   const Eigen::Vector3d fit = normal_matrix.ldlt().solve(rhs);
-  const Eigen::Vector2d outward(fit[0], fit[1]);
+  Eigen::Vector2d outward(fit[0], fit[1]);
   if (!outward.allFinite() || outward.norm() == 0.0) return false;
+  outward.normalize();
   int free = 0, hidden = 0, undecided = 0;
   for (int i : inliers) {
     const Eigen::Vector3d x = cloud[i].getVector3fMap().cast<double>();
@@ -152,7 +153,7 @@ bool SeesPastEnd(const Cloud& cloud, const std::vector<char>& mask, const std::v
     const int u = i % width, v = i / width;
     for (int du = -1; du <= 1; ++du) {
       for (int dv = -1; dv <= 1; ++dv) {
-        if ((du == 0 && dv == 0) || Eigen::Vector2d(du, dv).normalized().dot(outward.normalized()) < 0.5) continue;
+        if ((du == 0 && dv == 0) || Eigen::Vector2d(du, dv).normalized().dot(outward) < 0.5) continue;
         // The first pixel with depth beyond the face's own (and beyond its unsegmented fringe on
         // its plane, and a silhouette's missing depth) decides; none within face_end_search: the
         // face may go on unseen.
@@ -201,7 +202,7 @@ struct AxisEnd {
 // along it, whole when the camera sees past it. Both ends on planes, or no complete edge: the
 // dimension is theirs. The centre lies halfway between the ends.
 void MeasureTwoFaceObject(const Cloud& cloud, const ObjectConfig& config, const FrameModel& model,
-                          const std::map<int, size_t>& face_size, FrameObject* object) {
+                          FrameObject* object) {
   const double axis_cos = std::cos(config.axis_tolerance_deg * kDegToRad);
   const double along_sin = std::sin(config.axis_tolerance_deg * kDegToRad);
   std::vector<char> mask(cloud.size(), 0);
@@ -211,6 +212,11 @@ void MeasureTwoFaceObject(const Cloud& cloud, const ObjectConfig& config, const 
   Eigen::Vector3d reference = Eigen::Vector3d::Zero();
   for (int p : object->planes) reference += model.planes[p].centroid;
   reference /= static_cast<double>(object->planes.size());
+  std::map<int, std::vector<int>> face_inliers;  // every piece's
+  for (int p : object->planes) {
+    std::vector<int>& inliers = face_inliers[model.FaceOf(p)];
+    inliers.insert(inliers.end(), model.planes[p].inliers.begin(), model.planes[p].inliers.end());
+  }
   for (int k = 0; k < 3; ++k) {
     const Eigen::Vector3d a = object->axes.col(k);
     std::optional<AxisEnd> low, high;
@@ -221,17 +227,12 @@ void MeasureTwoFaceObject(const Cloud& cloud, const ObjectConfig& config, const 
       // The object lies on the side of the plane its normal points to (the support) or away from it.
       ((c > 0) == object_in_front ? low : high) = end;
     };
-    for (const auto& [f, size] : face_size) bound(model.FacePlane(f), false);
+    for (const auto& [f, inliers] : face_inliers) bound(model.FacePlane(f), false);
     bound(model.FacePlane(object->support), true);
     // The faces running along the axis: their points' extent.
     std::optional<AxisEnd> seen_low, seen_high;
-    for (const auto& [f, size] : face_size) {
-      if (std::abs(model.FacePlane(f).normal.dot(a)) > along_sin) continue;
-      std::vector<int> inliers;
-      for (int p : object->planes) {
-        if (model.FaceOf(p) == f) inliers.insert(inliers.end(), model.planes[p].inliers.begin(), model.planes[p].inliers.end());
-      }
-      if (inliers.empty()) continue;
+    for (const auto& [f, inliers] : face_inliers) {
+      if (std::abs(model.FacePlane(f).normal.dot(a)) > along_sin || inliers.empty()) continue;
       std::vector<double> t;
       t.reserve(inliers.size());
       for (int i : inliers) {
@@ -444,7 +445,7 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
       ++count;
     }
     object.center = count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero();
-    if (two_faces) MeasureTwoFaceObject(cloud, config, *model, face_size, &object);
+    if (two_faces) MeasureTwoFaceObject(cloud, config, *model, &object);
 
     // 4. Grasp sides: vertical faces across which the object is as wide as the hands can span,
     //    on an object low enough; the chosen side is the one facing the camera most.

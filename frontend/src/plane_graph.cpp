@@ -7,8 +7,6 @@
 
 #include <Eigen/Dense>
 
-#include "planemap/core/pose.h"
-
 #include "planemap/frontend/plane_segmenter.h"
 
 namespace planemap {
@@ -381,34 +379,26 @@ void AggregateObjects(const Cloud& cloud, const PlaneGraphConfig& config, FrameM
   // within two_face_support_gap of, beside the plane's points (the edge is missed where the
   // support is seen at a glancing angle); of several, the highest under the face (a box standing
   // on a lower box stands on the table too, as far as its points go). -1 if none.
-  auto face_pixels = [&](int f) {
+  std::vector<int> support_cache(n, -2);  // -2: not computed yet
+  auto find_support = [&](int f) {
+    if (!vertical(f)) return -1;
     std::vector<int> pixels;
     for (int p = 0; p < static_cast<int>(n); ++p) {
       if (face(p) == f) pixels.insert(pixels.end(), planes[p].inliers.begin(), planes[p].inliers.end());
     }
-    return pixels;
-  };
-  auto support_of = [&](int f) {
-    if (!vertical(f)) return -1;
-    std::vector<Eigen::Vector3d> points;
-    for (int p = 0; p < static_cast<int>(n); ++p) {
-      if (face(p) != f) continue;
-      for (int i : planes[p].inliers) points.push_back(cloud[i].getVector3fMap().cast<double>());
-    }
-    if (points.empty()) return -1;
+    if (pixels.empty()) return -1;
     int support = -1;
     double lowest = 0.0;  // the face's lowest points' height over the support [m]
+    std::vector<double> heights(pixels.size());
     for (int s = 0; s < static_cast<int>(n); ++s) {
       if (face(s) != s || s == f || !facing_up(s)) continue;
       const Plane& plane = model->FacePlane(s);
-      std::vector<double> heights;
-      heights.reserve(points.size());
       size_t below = 0;
-      for (const Eigen::Vector3d& x : points) {
-        heights.push_back(plane.SignedDistance(x));
-        below += heights.back() < -config.two_face_below_distance;
+      for (size_t k = 0; k < pixels.size(); ++k) {
+        heights[k] = plane.SignedDistance(cloud[pixels[k]].getVector3fMap().cast<double>());
+        below += heights[k] < -config.two_face_below_distance;
       }
-      if (below > config.two_face_below_share * points.size()) continue;
+      if (below > config.two_face_below_share * pixels.size()) continue;
       const size_t k = static_cast<size_t>(0.01 * heights.size());
       std::nth_element(heights.begin(), heights.begin() + k, heights.end());
       const double low = heights[k];
@@ -417,13 +407,17 @@ void AggregateObjects(const Cloud& cloud, const PlaneGraphConfig& config, FrameM
         meets = meets || (!e.hidden && !e.convex && ((face(e.plane_a) == f && face(e.plane_b) == s) ||
                                                       (face(e.plane_a) == s && face(e.plane_b) == f)));
       }
-      if (!meets && low <= config.two_face_support_gap) meets = SupportBeside(cloud, face_pixels(f), plane, low, config);
+      if (!meets && low <= config.two_face_support_gap) meets = SupportBeside(cloud, pixels, plane, low, config);
       if (meets && (support < 0 || low < lowest)) {
         support = s;
         lowest = low;
       }
     }
     return support;
+  };
+  auto support_of = [&](int f) {
+    if (support_cache[f] == -2) support_cache[f] = find_support(f);
+    return support_cache[f];
   };
   std::vector<int> group(n);
   std::iota(group.begin(), group.end(), 0);
