@@ -391,6 +391,7 @@ TEST(Frontend, ABoxWhoseVerticalEdgeIsHiddenBehindAPoleIsFound) {
   without.intersections.hidden_edges = false;
   FrontendConfig two_faces_only = without;  // its top meets each side: faces joined two by two
   two_faces_only.graph.two_face_min_angle_deg = 60.0;
+  without.graph.two_face_min_angle_deg = 0.0;
   const PatternsConfig patterns = LoadPatterns(SourcePath("configs/patterns.yaml"));
   FrontendConfig with;
   with.intersections.hidden_edges = true;

@@ -144,7 +144,9 @@ bool SeesPastEnd(const Cloud& cloud, const std::vector<char>& mask, const std::v
   }
   const Eigen::Vector3d fit = normal_matrix.ldlt().solve(rhs);
   Eigen::Vector2d outward(fit[0], fit[1]);
-  if (!outward.allFinite() || outward.norm() == 0.0) return false;
+  // That gradient is how far the face runs along dir per pixel: a face seen at a glancing angle
+  // (a top a few rows high from far away) places its end no finer than that.
+  if (!outward.allFinite() || outward.norm() == 0.0 || outward.norm() > config.face_end_max_pixel) return false;
   outward.normalize();
   int free = 0, hidden = 0, undecided = 0;
   for (int i : inliers) {
@@ -161,7 +163,8 @@ bool SeesPastEnd(const Cloud& cloud, const std::vector<char>& mask, const std::v
         for (int step = 1; step <= config.face_end_search && !decided; ++step) {
           const int qu = u + step * du, qv = v + step * dv;
           if (qu < 0 || qv < 0 || qu >= width || qv >= height) {
-            left_face = true;  // the image ends
+            decided = true;  // the image ends: the face may go on out of view
+            ++hidden;
             break;
           }
           const int q = qv * width + qu;
@@ -239,8 +242,18 @@ void MeasureTwoFaceObject(const Cloud& cloud, const ObjectConfig& config, const 
         t.push_back(a.dot(cloud[i].getVector3fMap().cast<double>()));
         mask[i] = 1;
       }
-      const double lo = Percentile(t, 0.01), hi = Percentile(t, 0.99);
-      const Plane& plane = model.FacePlane(f);
+      std::sort(t.begin(), t.end());
+      const double lo = SortedPercentile(t, config.face_extent_trim), hi = SortedPercentile(t, 1.0 - config.face_extent_trim);
+      // The face as the cuboid has it: its normal along the object's axis nearest to it, through its
+      // points' centroid (a face seen as a thin strip is fitted a few degrees off, and its plane
+      // continued past its end would pass above or below the rest of the face).
+      const Eigen::Vector3d n = model.FacePlane(f).normal;
+      int nearest = 0;
+      (object->axes.transpose() * n).cwiseAbs().maxCoeff(&nearest);
+      const Eigen::Vector3d axis = object->axes.col(nearest) * (object->axes.col(nearest).dot(n) > 0.0 ? 1.0 : -1.0);
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (int i : inliers) centroid += cloud[i].getVector3fMap().cast<double>();
+      const Plane plane = Plane::FromPointNormal(centroid / static_cast<double>(inliers.size()), axis);
       if (!seen_low || lo < seen_low->at) seen_low = AxisEnd{lo, SeesPastEnd(cloud, mask, inliers, plane, -a, -lo, config), false};
       if (!seen_high || hi > seen_high->at) seen_high = AxisEnd{hi, SeesPastEnd(cloud, mask, inliers, plane, a, hi, config), false};
       for (int i : inliers) mask[i] = 0;
@@ -255,7 +268,10 @@ void MeasureTwoFaceObject(const Cloud& cloud, const ObjectConfig& config, const 
     const bool complete = low->whole && high->whole;
     const bool exact = low->plane && high->plane;
     const bool edge_complete = object->dimension_complete[k] && object->dimensions[k] > 0.0;
-    if (exact || (!edge_complete && (complete || length > object->dimensions[k]))) {
+    // A cut edge longer by more than edge_length_tolerance shows the object goes on past the
+    // ends seen (as for edges, MeasureObjects step 2).
+    const bool beyond = !edge_complete && object->dimensions[k] > length + config.edge_length_tolerance;
+    if (exact || (!edge_complete && !beyond && (complete || length > object->dimensions[k]))) {
       object->dimensions[k] = length;
       object->dimension_complete[k] = complete;
     }

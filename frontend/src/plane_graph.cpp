@@ -377,8 +377,9 @@ void AggregateObjects(const Cloud& cloud, const PlaneGraphConfig& config, FrameM
   // two_face_below_share of its points more than two_face_below_distance beneath it) and that
   // it meets in a seen concave edge, or whose plane its lowest points (1st percentile) reach
   // within two_face_support_gap of, beside the plane's points (the edge is missed where the
-  // support is seen at a glancing angle); of several, the highest under the face (a box standing
-  // on a lower box stands on the table too, as far as its points go). -1 if none.
+  // support is seen at a glancing angle). Of several, one its lowest points reach (a box standing
+  // on a lower box stands on the table too, as far as its points go), the one with most points (a
+  // floor in pieces: a small piece is fitted less well); else the highest. -1 if none.
   std::vector<int> support_cache(n, -2);  // -2: not computed yet
   auto find_support = [&](int f) {
     if (!vertical(f)) return -1;
@@ -388,7 +389,9 @@ void AggregateObjects(const Cloud& cloud, const PlaneGraphConfig& config, FrameM
     }
     if (pixels.empty()) return -1;
     int support = -1;
-    double lowest = 0.0;  // the face's lowest points' height over the support [m]
+    bool touching = false;  // the support's plane within two_face_support_gap of the face's lowest points
+    double lowest = 0.0;    // their height over it [m]
+    size_t largest = 0;     // its inliers
     std::vector<double> heights(pixels.size());
     for (int s = 0; s < static_cast<int>(n); ++s) {
       if (face(s) != s || s == f || !facing_up(s)) continue;
@@ -408,9 +411,18 @@ void AggregateObjects(const Cloud& cloud, const PlaneGraphConfig& config, FrameM
                                                       (face(e.plane_a) == s && face(e.plane_b) == f)));
       }
       if (!meets && low <= config.two_face_support_gap) meets = SupportBeside(cloud, pixels, plane, low, config);
-      if (meets && (support < 0 || low < lowest)) {
+      // The plane the face's bottom touches; of several (a floor in pieces), the one with most
+      // points, the best fitted; else the highest.
+      size_t size = 0;
+      for (int p = 0; p < static_cast<int>(n); ++p) size += face(p) == s ? planes[p].inliers.size() : 0;
+      const bool touches = low <= config.two_face_support_gap;
+      const bool better = support < 0 || (touches && !touching) ||
+                          (touches == touching && (touches ? size > largest : low < lowest));
+      if (meets && better) {
         support = s;
+        touching = touches;
         lowest = low;
+        largest = size;
       }
     }
     return support;

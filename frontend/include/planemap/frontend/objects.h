@@ -73,20 +73,25 @@ struct ObjectConfig {
 
   // Objects of two faces (FrameObject::support): an axis no edge measures is measured on a face
   // that runs along it, from its plane's end of the box (a face across the axis, or the support)
-  // to the far end of the face's points (1st to 99th percentile). That end is whole when the
-  // camera sees past it: from each of the face's points within face_end_band of the end, in
-  // each of 8 directions in the image, the first pixel with depth beyond the end, past the face's
-  // own pixels and its plane's, within face_end_search pixels, lies behind the face's plane by
-  // face_end_gap or more, for at least face_end_free_share of them (what lies nearer hides the
-  // face's continuation; no such pixel, or the image's border: it may go on), and for at least
-  // face_end_min_seen of all the directions that leave the face toward the end (the rest may
-  // have no depth: a silhouette's shadow, a background out of range). Only the 8 directions
-  // within 60 deg of the end's in the image look. [m], [px], [fraction], [m], [fraction]
+  // to the far end of the face's points (face_extent_trim of them left out at either end: stray
+  // points; 1% cuts the rendered box's faces about 1 cm short). That end is whole when the camera
+  // sees past it: from each of the face's points within face_end_band of the end, in the 8
+  // image directions within 60 deg of the end's, the first pixel with depth past the face's own
+  // pixels and its plane's (the face as the cuboid has it: its normal along the object's axis
+  // nearest to it, through its centroid), within face_end_search pixels, lies behind that plane
+  // by face_end_gap or more, for at least face_end_free_share of those that see anything there
+  // (what lies nearer, or the image's border, hides the face's continuation) and face_end_min_seen
+  // of all (the rest may have no depth: a silhouette's shadow, a background out of range). Never
+  // where the face runs more than face_end_max_pixel along the axis per pixel (its points'
+  // gradient over the image: a face seen at a glancing angle places its end no finer than a
+  // pixel's footprint). [fraction], [m], [px], [fraction], [m], [fraction], [m]
+  double face_extent_trim = 0.002;
   double face_end_band = 0.01;
   int face_end_search = 8;
   double face_end_free_share = 0.7;
   double face_end_gap = 0.02;
   double face_end_min_seen = 0.25;
+  double face_end_max_pixel = 0.01;
 
   std::string CrossCheck() const {
     return hand_span_min <= hand_span_max ? "" : "hand_span_min must not exceed hand_span_max";
@@ -103,11 +108,13 @@ struct ObjectConfig {
     v("edge_length_tolerance", edge_length_tolerance, Check::kNonNegative);
     v("edge_join_distance", edge_join_distance, Check::kNonNegative);
     v("edge_join_gap", edge_join_gap, Check::kNonNegative);
+    v("face_extent_trim", face_extent_trim, Check::kProbability);
     v("face_end_band", face_end_band, Check::kPositive);
     v("face_end_search", face_end_search, Check::kPositive);
     v("face_end_free_share", face_end_free_share, Check::kProbability);
     v("face_end_gap", face_end_gap, Check::kPositive);
     v("face_end_min_seen", face_end_min_seen, Check::kProbability);
+    v("face_end_max_pixel", face_end_max_pixel, Check::kPositive);
   }
 };
 

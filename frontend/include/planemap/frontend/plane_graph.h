@@ -58,11 +58,11 @@ struct PlaneGraphConfig {
   // in a concave edge too, and goes on down past it); without a seen edge, when its lowest points
   // (1st percentile) also reach within two_face_support_gap of the support's plane, within its
   // points' bounding box grown by as much (a floor seen at a glancing angle, as from a camera
-  // below a box's top, gives too few points beside the box for an edge). 0 deg: off. [deg], [m],
-  // [fraction], [m], [m]. Off by default for now: with such objects in the map, the tracker's
-  // use of object silhouettes ended the hall's tracking test 6.6 mm off (under 5 mm before) and
-  // the office walk's tracking worse; 60 deg turns it on (docs/frontend.md).
-  double two_face_min_angle_deg = 0.0;
+  // below a box's top, gives too few points beside the box for an edge). Of several supports,
+  // one whose plane its lowest points reach within two_face_support_gap (the one with most points:
+  // a floor in pieces), else the highest. 0 deg: off. [deg], [m],
+  // [fraction], [m], [m]
+  double two_face_min_angle_deg = 60.0;
   double two_face_min_height = 0.02;
   double two_face_below_share = 0.05;
   double two_face_below_distance = 0.02;
