@@ -121,7 +121,7 @@ TEST(Frontend, BoxClassDimensionsCentreAndGraspAxisFromViewsShowingThreeFaces) {
   EXPECT_LE(Median(f.axis_error_deg), 2.0) << "deg";
 }
 
-// Issue 56: with objects of two faces on (graph.two_face_min_angle_deg 60; off by default), the
+// Issue 56: with objects of two faces on (graph.two_face_min_angle_deg 60, the default), the
 // box showing only two faces, its top and a side or two sides (its third face turned away),
 // standing on the floor, is a box object, its complete dimensions within 1 cm at
 // the median, its grasp axis within 2 deg. The issue asks for 95% of the views; 89% hold (121

@@ -258,7 +258,7 @@ TEST(RealFrames, OsdBoxesAreFoundWithTheirFacesAndSizes) {
 
 // Issue 56: boxes that show two faces (a top and a side, or two sides; read from the labelled
 // points, OsdFacesShown) standing on the table or on another box, with objects of two faces on
-// (graph.two_face_min_angle_deg 60; off by default) and off. ScoreOsdBoxes: found by a box
+// (graph.two_face_min_angle_deg 60, the default) and off. ScoreOsdBoxes: found by a box
 // object whose centre lies in the box's labelled points' bounding box grown by 3 cm and whose
 // cuboid grown by 2 cm holds half of them or more; complete dimensions against the labelled
 // extent; a false box is a box object near no labelled box.
