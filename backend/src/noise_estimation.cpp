@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <random>
 
 #include <Eigen/Sparse>
@@ -60,10 +61,17 @@ std::vector<double> RedundancyFractions(ceres::Problem* problem, const std::vect
     first_row[id] = row;
     row += problem->GetCostFunctionForResidualBlock(id)->num_residuals();
   }
-  std::vector<double*> blocks;
-  problem->GetParameterBlocks(&blocks);
-  for (double* b : blocks) {
-    if (!problem->IsParameterBlockConstant(b)) options.parameter_blocks.push_back(b);
+  // The free variables in the order the residual blocks first name them. Not
+  // Problem::GetParameterBlocks: it lists them by address, which differs from run to run, and the
+  // columns' order moves the factorization's rounding, so the same input would not give the same
+  // output to the last digit.
+  std::set<double*> listed;
+  for (ceres::ResidualBlockId id : options.residual_blocks) {
+    std::vector<double*> blocks;
+    problem->GetParameterBlocksForResidualBlock(id, &blocks);
+    for (double* b : blocks) {
+      if (!problem->IsParameterBlockConstant(b) && listed.insert(b).second) options.parameter_blocks.push_back(b);
+    }
   }
   options.apply_loss_function = true;  // the information as the solver weighs it
   ceres::CRSMatrix crs;
