@@ -11,6 +11,7 @@ PACKAGES=(
   libeigen3-dev libceres-dev libsuitesparse-dev libpcl-dev libopencv-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libboost-math-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 [ "${1:-}" = "--with-browser" ] && PACKAGES+=(chromium)
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs the whole test suite.
-#   scripts/test.sh             Release build in build/
+#   scripts/test.sh             Release build in build/, then the installed package (scripts/test_install.sh)
 #   scripts/test.sh --sanitize  AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan/
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,3 +28,5 @@ else
   exclude='^$'
 fi
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" -E "$exclude"
+# The installed package: find_package(planemap) from examples/, and the installed tool.
+if [ "$build_dir" = build ]; then bash scripts/test_install.sh "$build_dir"; fi

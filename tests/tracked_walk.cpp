@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "planemap/frontend/frontend.h"
+#include "planemap/pipeline/mapper.h"
 #include "planemap/sim/virtual_camera.h"
 #include "planemap/sim/walk.h"
 #include "sim_views.h"
@@ -40,24 +40,24 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
   sim::RenderConfig render;
   render.seed = seed;
   const sim::VirtualCamera camera(scene, XtionCamera(), render);
-  const Frontend frontend(XtionCamera(), FrontendConfig{}, LoadPatterns(SourcePath("configs/patterns.yaml")));
   TrackedRun run;
   const Trajectory truth = WalkTruth(std::move(waypoints));
   last = std::min(last, truth.size());
   if (first >= last) return run;
   for (size_t k = first; k < last; k += stride) run.truth.push_back(truth[k]);
-  Tracker tracker(TrackingConfig{}, T_run_world * truth[first].T_world_camera, XtionCamera());
-  SlidingWindow window(backend);
+  MapperConfig config;
+  config.backend = backend;
+  Mapper mapper(XtionCamera(), config, LoadPatterns(SourcePath("configs/patterns.yaml")), T_run_world * truth[first].T_world_camera);
   for (size_t k = first; k < last; k += stride) {
     sim::RenderedFrame rendered = camera.Render(truth[k].T_world_camera, camera.FrameSeed(static_cast<int>(k)));
     RgbdFrame frame;
     frame.depth = std::move(rendered.depth);
     frame.color = std::move(rendered.color);
     frame.stamp = truth[k].stamp;
-    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, XtionCamera(), CloudConfig{});
-    const TrackResult r = tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp);
+    const MapperStep step = mapper.Add(frame);
+    const TrackResult& r = step.track;
     run.estimate.push_back({frame.stamp, r.T_world_camera});
-    run.smoothed.push_back({frame.stamp, window.Update(tracker.map(), tracker.observations().back())});
+    run.smoothed.push_back({frame.stamp, step.T_world_camera_smoothed});
     if (std::getenv("PLANEMAP_TRACE")) {
       const Pose3 e = (T_run_world * truth[k].T_world_camera).inverse() * r.T_world_camera;
       const Pose3 p = (T_run_world * truth[k].T_world_camera).inverse() * r.T_predicted;  // the motion model's error
@@ -68,8 +68,8 @@ TrackedRun TrackWalk(const sim::Scene& scene, std::vector<double> waypoints, std
     run.status.push_back(r.status);
     run.relocalized.push_back(r.relocalized);
   }
-  run.map = tracker.map();
-  run.observations = tracker.observations();
+  run.map = mapper.map();
+  run.observations = mapper.observations();
   return run;
 }
 

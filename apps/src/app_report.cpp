@@ -3,6 +3,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "planemap/apps/app_config.h"
 #include "planemap/frontend/map_merge.h"
 #include "planemap/frontend/plane_outline.h"
 
@@ -22,7 +23,7 @@ std::string Printf(const char* format, ...) {
 
 ReportAssets PrepareReport(const std::string& file) {
   CheckReportWritable(file);
-  return LoadReportAssets(std::string(PLANEMAP_SOURCE_DIR) + "/web");
+  return LoadReportAssets(ShippedDataDir() + "/web");
 }
 
 void AddMapToReport(const PlaneMap& map, const PlaneGraphConfig& graph, ReportData* report) {

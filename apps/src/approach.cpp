@@ -13,12 +13,11 @@
 #include "planemap/apps/app_config.h"
 #include "planemap/backend/backend.h"
 #include "planemap/core/error.h"
-#include "planemap/frontend/frontend.h"
-#include "planemap/frontend/tracker.h"
 #include "planemap/nav/simulated_humanoid.h"
 #include "planemap/nav/target.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
+#include "planemap/pipeline/mapper.h"
 
 namespace planemap {
 namespace {
@@ -219,7 +218,6 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   } else if (!scene.task_object.empty()) {
     wanted.size = scene.object(scene.task_object).dimensions;
   }
-  const Frontend frontend(camera, config.frontend, inputs.patterns);
   const sim::VirtualCamera sensor(scene, camera, config.render);
   std::unique_ptr<sim::VirtualCamera> moved_sensor;  // built when the target is known
 
@@ -228,8 +226,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   nav::OdometryCalibration odometry(config.odometry_calibration);
   // The robot knows where it starts (the paper: from the first frames; here the world is the
   // scene's, as `planemap map` anchors a sequence with ground truth).
-  Tracker tracker(config.tracking, robot.CameraPose(), camera);
-  SlidingWindow window(config.backend);
+  Mapper mapper(camera, config.mapper(), inputs.patterns, robot.CameraPose());
   nav::Mission mission(static_cast<nav::Scenario>(options.scenario), config.mission, config.planner, config.grasp, &robot);
   nav::Search search(config.search, config.mission, config.planner, config.grasp, &robot);
   double view_start = 0.0;  // when the robot began standing at the start or at its last viewpoint [s]
@@ -287,22 +284,20 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       frame.color = std::move(rendered.color);
       frame.stamp = t;
       const auto t1 = Clock::now();
-      const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
-      FrameModel model = frontend.Process(*cloud);
+      Perception perception = mapper.Perceive(frame);
       const auto t2 = Clock::now();
       const nav::Pose2 odometry_pose = odometry.Correct(robot.OdometryPose());
-      const TrackResult tracked =
-          tracker.Track(model, *cloud, t, nav::NominalCameraPose(odometry_pose, config.humanoid));
+      const MapperStep step = mapper.Track(perception, t, nav::NominalCameraPose(odometry_pose, config.humanoid));
+      const TrackResult& tracked = step.track;
       // Only a pose the planes fixed in every direction measures the gait.
       std::optional<nav::Pose2> measured;
       if (tracked.status == TrackStatus::kTracked)
         measured = nav::BaseFromCamera(tracked.T_world_camera, config.humanoid.camera_forward_offset);
       odometry.Observe(measured);
-      const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
       if (!run.planned) {  // for the search (moved: the frame is done with it)
-        last_model = std::move(model);
-        last_cloud = cloud;
-        last_T_world_camera = T_smoothed;
+        last_model = std::move(perception.model);
+        last_cloud = perception.cloud;
+        last_T_world_camera = step.T_world_camera_smoothed;
       }
       const auto t3 = Clock::now();
       run.render_ms.push_back(Ms(t0, t1));
@@ -321,7 +316,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
         track_reason = "lost: " + tracked.reason;
       } else {
         last_estimate_time = t;
-        estimate = nav::BaseFromCamera(T_smoothed, config.humanoid.camera_forward_offset);
+        estimate = nav::BaseFromCamera(step.T_world_camera_smoothed, config.humanoid.camera_forward_offset);
         traced.has_estimate = true;
         traced.estimate = *estimate;
         run.estimate_path.push_back(*estimate);
@@ -346,9 +341,9 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       std::string plan_failure;
       target = -1;
       // The most seen target a plan reaches; one whose plan fails is passed over.
-      for (int candidate : FindTargets(tracker.map(), wanted, config.grasp, config.search.target_min_observations,
+      for (int candidate : FindTargets(mapper.map(), wanted, config.grasp, config.search.target_min_observations,
                                        *estimate, &counts)) {
-        const nav::PlanResult plan = mission.Plan(tracker.map(), candidate, *estimate);
+        const nav::PlanResult plan = mission.Plan(mapper.map(), candidate, *estimate);
         if (plan.ok) {
           target = candidate;
           break;
@@ -358,7 +353,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       if (target >= 0) {
         run.planned = true;
         // Scored against the scene's task object when it names one, whatever was approached.
-        const sim::SceneObject& approached = NearestObject(scene, tracker.map().objects[target].center);
+        const sim::SceneObject& approached = NearestObject(scene, mapper.map().objects[target].center);
         target_truth = scene.task_object.empty() ? &approached : &scene.object(scene.task_object);
         run.target = approached.name;
         run.intended = scene.task_object;
@@ -367,10 +362,10 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       } else if (t - view_start >=
                  (search.Viewpoints().empty() ? options.look_timeout : config.search.look_time)) {
         std::string why;
-        const PlaneMap seen = last_cloud ? WithFacesInView(tracker.map(), last_model, *last_cloud,
+        const PlaneMap seen = last_cloud ? WithFacesInView(mapper.map(), last_model, *last_cloud,
                                                             last_T_world_camera,
                                                             config.search.candidate_min_observations)
-                                         : tracker.map();
+                                         : mapper.map();
         if (!search.Next(seen, *estimate, wanted, &why)) {
           std::string none = counts.ungraspable > 0 ? "no " + options.target + " the arms can grasp (" +
                                                           std::to_string(counts.ungraspable) + " mapped; " +
@@ -398,7 +393,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
     if (run.planned) {
       const size_t before = mission.Records().size();
       const auto t4 = Clock::now();
-      const MapObject* object = target >= 0 && target < static_cast<int>(tracker.map().objects.size()) ? &tracker.map().objects[target] : nullptr;
+      const MapObject* object = target >= 0 && target < static_cast<int>(mapper.map().objects.size()) ? &mapper.map().objects[target] : nullptr;
       mission.Update(t, estimate, object);
       run.control_ms.push_back(Ms(t4, Clock::now()));
       for (size_t i = before; i < mission.Records().size(); ++i) {
@@ -425,7 +420,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   run.duration = robot.Time();
   run.reference = run.planned ? mission.ReferencePath() : run.reference;
   run.footsteps = robot.Footsteps();
-  run.map = tracker.map();
+  run.map = mapper.map();
   if (!run.planned || !target_truth) return run;
 
   // Scores against ground truth: where the robot should stand for the face it chose.
@@ -435,7 +430,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   run.pregrasp_true = nav::PreGraspPose(truth_object, config.grasp, truth_object.grasp_axis.head<2>());
   run.position_error = (final_pose.Position() - run.pregrasp_true.Position()).norm();
   run.heading_error = std::abs(nav::WrapAngle(final_pose.theta - run.pregrasp_true.theta));
-  const MapObject& estimated = tracker.map().objects[target];
+  const MapObject& estimated = mapper.map().objects[target];
   const nav::GraspGeometry faces = nav::GraspFaces(estimated, g);
   const nav::GraspGeometry true_faces = nav::GraspFaces(truth_object, g);
   run.object_center_error = (estimated.center - truth_object.center).norm();

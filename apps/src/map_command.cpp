@@ -11,14 +11,11 @@
 #include "app_report.h"
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
-#include "planemap/backend/backend.h"
 #include "planemap/core/error.h"
 #include "planemap/core/statistics.h"
-#include "planemap/frontend/frontend.h"
-#include "planemap/frontend/map_merge.h"
-#include "planemap/frontend/tracker.h"
 #include "planemap/io/frame_model_io.h"
 #include "planemap/io/tum_sequence.h"
+#include "planemap/pipeline/mapper.h"
 
 namespace fs = std::filesystem;
 
@@ -62,7 +59,6 @@ int RunMap(const MapOptions& options) {
   }
   const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
   const TumSequence sequence = TumSequence::Open(options.sequence, camera, config.dataset);
-  const Frontend frontend(camera, config.frontend, LoadPatterns(ResolveConfigPath(options.patterns)));
 
   // The world: the first frame's ground-truth pose when there is one (so the map and the
   // trajectory are in the ground truth's frame), else the first camera frame.
@@ -73,7 +69,7 @@ int RunMap(const MapOptions& options) {
   }
   const bool anchored = options.anchor != "first" && first_truth.has_value();
   if (anchored) T_world_first = *first_truth;
-  Tracker tracker(config.tracking, T_world_first, camera);
+  Mapper mapper(camera, config.mapper(), LoadPatterns(ResolveConfigPath(options.patterns)), T_world_first);
 
   std::error_code ec;
   fs::create_directories(options.out, ec);
@@ -87,23 +83,20 @@ int RunMap(const MapOptions& options) {
              << "\n# timestamp tx ty tz qx qy qz qw\n";
   smoothed << "# planemap map " << options.sequence << ": T_world_camera (sliding window of " << config.backend.window_size
            << " frames, as given live), world = " << world << "\n# timestamp tx ty tz qx qy qz qw\n";
-  SlidingWindow window(config.backend);
   log << "frame,stamp,status,planes,matched,inliers,added,refined,frontend_ms,tracking_ms,window_ms,reason\n";
 
   const size_t frames = options.max_frames < 0 ? sequence.size() : std::min(sequence.size(), static_cast<size_t>(options.max_frames));
-  int counts[3] = {0, 0, 0}, unreadable = 0;
+  int unreadable = 0;
   double cloud_points = 0.0;  // valid pixels of every frame used
   std::vector<double> frontend_ms, tracking_ms, window_ms;
   Trajectory tracked, truth;  // for the report; the truth when the map is in its world
   using Clock = std::chrono::steady_clock;
-  // Two stages on two threads: while frame k is tracked (and smoothed), frame k + 1 is read and
-  // goes through the frontend, which depends on no pose. Tracking takes the frames in order, so
-  // the outputs are those of one thread, frame for frame.
+  // The mapper's two stages on two threads: while frame k is tracked (and smoothed), frame k + 1
+  // is read and perceived, which depends on no pose. Tracking takes the frames in order, so the
+  // outputs are those of one thread, frame for frame.
   struct Perceived {
     RgbdFrame frame;
-    Cloud::Ptr cloud;
-    FrameModel model;
-    double frontend_ms = 0.0;
+    Perception perception;
     std::string unreadable;  // why the frame could not be read; empty when it was
   };
   const auto perceive = [&](size_t i) {
@@ -114,10 +107,7 @@ int RunMap(const MapOptions& options) {
       p.unreadable = e.what();
       return p;
     }
-    const auto t0 = Clock::now();
-    p.cloud = MakeOrganizedCloud(p.frame, camera, config.frontend.cloud);
-    p.model = frontend.Process(*p.cloud);
-    p.frontend_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    p.perception = mapper.Perceive(p.frame);
     return p;
   };
   const auto start = Clock::now();
@@ -132,32 +122,27 @@ int RunMap(const MapOptions& options) {
       continue;
     }
     const RgbdFrame& frame = perceived.frame;
-    const Cloud::Ptr& cloud = perceived.cloud;
-    const FrameModel& model = perceived.model;
-    for (const auto& p : *cloud) cloud_points += IsValidPoint(p);
-    const auto t1 = Clock::now();
-    const TrackResult r = tracker.Track(model, *cloud, frame.stamp);
-    const auto t2 = Clock::now();
-    const Pose3 T_smoothed = window.Update(tracker.map(), tracker.observations().back());
-    const auto t3 = Clock::now();
-    frontend_ms.push_back(perceived.frontend_ms);
-    tracking_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
-    window_ms.push_back(std::chrono::duration<double, std::milli>(t3 - t2).count());
-    ++counts[static_cast<int>(r.status)];
+    for (const auto& p : *perceived.perception.cloud) cloud_points += IsValidPoint(p);
+    const MapperStep step = mapper.Track(perceived.perception, frame.stamp);
+    const TrackResult& r = step.track;
+    frontend_ms.push_back(perceived.perception.frontend_ms);
+    tracking_ms.push_back(step.tracking_ms);
+    window_ms.push_back(step.window_ms);
     trajectory << FormatTumPose({frame.stamp, r.T_world_camera}) << "\n" << std::flush;
     tracked.push_back({frame.stamp, r.T_world_camera});
     if (anchored && sequence.entry(i).T_world_camera) truth.push_back({frame.stamp, *sequence.entry(i).T_world_camera});
-    smoothed << FormatTumPose({frame.stamp, T_smoothed}) << "\n" << std::flush;
+    smoothed << FormatTumPose({frame.stamp, step.T_world_camera_smoothed}) << "\n" << std::flush;
     std::string reason = r.reason;
     std::replace(reason.begin(), reason.end(), ',', ';');
     log << i << ',' << FormatStamp(frame.stamp) << ',' << ToString(r.status) << ',' << r.planes << ',' << r.matched << ','
         << r.inliers << ',' << r.added << ',' << r.refined << ',' << frontend_ms.back() << ',' << tracking_ms.back() << ','
         << window_ms.back() << ',' << reason << "\n" << std::flush;
     std::fprintf(stderr, "\rframe %zu/%zu: %s, %d planes, %d matched, map %zu planes %zu objects   ", i + 1, frames,
-                 ToString(r.status), r.planes, r.matched, tracker.map().landmarks.size(), tracker.map().objects.size());
+                 ToString(r.status), r.planes, r.matched, mapper.map().landmarks.size(), mapper.map().objects.size());
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::fprintf(stderr, "\n");
+  const int counts[3] = {mapper.frames(TrackStatus::kTracked), mapper.frames(TrackStatus::kDegraded), mapper.frames(TrackStatus::kLost)};
   if (counts[0] + counts[1] + counts[2] == 0) {
     ThrowInputError(options.sequence, 0, "none of its " + std::to_string(unreadable) + " frames could be read (each is named above): no map");
   }
@@ -168,13 +153,12 @@ int RunMap(const MapOptions& options) {
     std::printf("%s\n", line.c_str());
     summary.push_back(std::move(line));
   };
-  PlaneMap map = tracker.map();
+  // The batch back end over every frame tracking kept (when asked), then duplicates fused.
+  const FinalMap final_map = mapper.Finish(options.refine);
+  const PlaneMap& map = final_map.map;
   Trajectory refined_poses;
   if (options.refine) {
-    // The batch back end over every frame tracking kept, before landmarks are renumbered.
-    const std::vector<FrameObservations>& frames_seen = tracker.observations();
-    const BatchResult batch = RefineBatch(map, frames_seen, config.backend);
-    const SolveReport& s = batch.report;
+    const SolveReport& s = final_map.refine;
     say(Printf("refine: %d poses, %d planes, %d boxes, %d residual blocks (%d plane observations, %d dropped as outliers)", s.poses,
                s.landmarks, s.cuboids, s.residual_blocks, s.observations, s.outliers));
     say(Printf("refine: %s, %d iterations, %.3f s (%.2f ms per iteration), cost %.4g -> %.4g, %s; covariances %.3f s",
@@ -185,20 +169,17 @@ int RunMap(const MapOptions& options) {
       std::fprintf(stderr, "planemap map: the back end failed (%s): map.json and the trajectory keep tracking's estimate\n",
                    s.termination.c_str());
     } else {
-      if (!batch.covariance_error.empty()) std::fprintf(stderr, "planemap map: no uncertainty: %s\n", batch.covariance_error.c_str());
-      map = batch.map;
+      if (!final_map.covariance_error.empty()) std::fprintf(stderr, "planemap map: no uncertainty: %s\n", final_map.covariance_error.c_str());
       std::ofstream refined(out / "trajectory_refined.txt");
       refined << "# planemap map --refine " << options.sequence << ": T_world_camera (batch back end), world = " << world
               << "\n# timestamp tx ty tz qx qy qz qw\n";
-      for (size_t k = 0; k < frames_seen.size(); ++k) refined_poses.push_back({frames_seen[k].stamp, batch.poses[k]});
+      const std::vector<FrameObservations>& frames_seen = mapper.observations();
+      for (size_t k = 0; k < frames_seen.size(); ++k) refined_poses.push_back({frames_seen[k].stamp, final_map.refined_poses[k]});
       for (const StampedPose& pose : refined_poses) refined << FormatTumPose(pose) << "\n";
       if (!refined) ThrowInputError(options.out, 0, "cannot write trajectory_refined.txt");
     }
   }
-  // Surfaces the tracker added twice (seen again from too far off to match) folded into one.
-  const int fused = FuseDuplicateLandmarks(config.merge, &map);
-  // ... and boxes mapped twice (views that did not match the first map object) into one.
-  const int fused_objects = FuseDuplicateObjects(config.merge, &map);
+  const int fused = final_map.fused_planes, fused_objects = final_map.fused_objects;
   {
     std::ofstream json(out / "map.json");
     json << PlaneMapJson(map) << "\n";

@@ -15,12 +15,10 @@
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/apps/consistency.h"
-#include "planemap/backend/backend.h"
 #include "planemap/core/error.h"
 #include "planemap/core/object_eval.h"
 #include "planemap/core/trajectory_eval.h"
-#include "planemap/frontend/frontend.h"
-#include "planemap/frontend/tracker.h"
+#include "planemap/pipeline/mapper.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
 #include "planemap/sim/walk.h"
@@ -30,23 +28,23 @@ namespace {
 
 // One seeded run: render the walk, track it, refine it; the boxes' errors and NEES.
 std::vector<ConsistencyRun> OneRun(const sim::Scene& scene, const CameraIntrinsics& camera, const AppConfig& base,
-                                   const Frontend& frontend, const Trajectory& walk, int seed) {
+                                   const PatternsConfig& patterns, const Trajectory& walk, int seed) {
   AppConfig config = base;
   config.render.seed = seed;
   const sim::VirtualCamera virtual_camera(scene, camera, config.render);
-  Tracker tracker(config.tracking, walk.front().T_world_camera, camera);  // the world is the scene's
+  // The world is the scene's; no sliding window.
+  Mapper mapper(camera, config.mapper(), patterns, walk.front().T_world_camera, /*smoothing=*/false);
   for (size_t k = 0; k < walk.size(); ++k) {
     sim::RenderedFrame rendered = virtual_camera.Render(walk[k].T_world_camera, virtual_camera.FrameSeed(static_cast<int>(k)));
     RgbdFrame frame;
     frame.depth = std::move(rendered.depth);
     frame.color = std::move(rendered.color);
     frame.stamp = walk[k].stamp;
-    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
-    tracker.Track(frontend.Process(*cloud), *cloud, frame.stamp);
+    mapper.Add(frame);
   }
-  const BatchResult batch = RefineBatch(tracker.map(), tracker.observations(), config.backend);
+  const BatchResult batch = mapper.Refine();
   Trajectory refined;
-  for (size_t k = 0; k < batch.poses.size(); ++k) refined.push_back({tracker.observations()[k].stamp, batch.poses[k]});
+  for (size_t k = 0; k < batch.poses.size(); ++k) refined.push_back({mapper.observations()[k].stamp, batch.poses[k]});
   // ATE only: a short walk or a wide stride leaves no pair of poses rpe_delta apart for the RPE.
   const double ate = ComputeAte(AssociatePoses(walk, refined, config.eval.max_time_gap)).translation.rmse;
   EvalConfig eval = config.eval;
@@ -97,7 +95,7 @@ ConsistencyResult RunConsistencyStudy(const ConsistencyOptions& options) {
   const sim::Scene scene = sim::LoadScene(ResolveConfigPath(options.scene));
   const CameraIntrinsics camera = LoadCameraIntrinsics(ResolveConfigPath(options.camera));
   const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(options.config));
-  const Frontend frontend(camera, config.frontend, LoadPatterns(ResolveConfigPath(options.patterns)));
+  const PatternsConfig patterns = LoadPatterns(ResolveConfigPath(options.patterns));
   const Trajectory full = sim::LoadTrajectory(ResolveConfigPath(options.trajectory));
   Trajectory walk;
   for (size_t k = 0; k < full.size(); k += options.stride) walk.push_back(full[k]);
@@ -114,7 +112,7 @@ ConsistencyResult RunConsistencyStudy(const ConsistencyOptions& options) {
     pool.emplace_back([&] {
       for (int i = next++; i < options.runs; i = next++) {
         try {
-          per_run[i] = OneRun(scene, camera, config, frontend, walk, options.first_seed + i);
+          per_run[i] = OneRun(scene, camera, config, patterns, walk, options.first_seed + i);
         } catch (...) {
           const std::lock_guard<std::mutex> lock(print);
           if (!failure) failure = std::current_exception();

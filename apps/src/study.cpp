@@ -9,13 +9,10 @@
 #include <sstream>
 
 #include "planemap/apps/app_config.h"
-#include "planemap/backend/backend.h"
 #include "planemap/core/error.h"
 #include "planemap/core/object_eval.h"
 #include "planemap/core/statistics.h"
-#include "planemap/frontend/frontend.h"
-#include "planemap/frontend/organized_cloud.h"
-#include "planemap/frontend/tracker.h"
+#include "planemap/pipeline/mapper.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
 
@@ -198,13 +195,13 @@ std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run
   const sim::Scene scene = StudyScene(study, run.object_scale);
   const sim::SceneObject& object = scene.object(study.object);
   const sim::VirtualCamera sensor(scene, camera, config.render);
-  const Frontend frontend(camera, config.frontend, LoadPatterns(ResolveConfigPath(study.patterns)));
+  const PatternsConfig patterns = LoadPatterns(ResolveConfigPath(study.patterns));
 
   // Every cell sees the same noise draws for the same seed (common random numbers), so cells
   // differ by what the sweep changes, not by luck.
   const std::uint64_t base = 1000003ULL * static_cast<std::uint64_t>(study.seed) + 1009ULL * static_cast<std::uint64_t>(run.seed);
   const Eigen::Vector3d center = object.Center();
-  std::optional<Tracker> tracker;
+  std::optional<Mapper> mapper;  // anchored at the true first pose; no sliding window
   int tracked = 0;
   std::vector<Pose3> truth_poses, tracked_poses;
   for (int k = 0; k < study.frames; ++k) {
@@ -215,10 +212,8 @@ std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run
     frame.depth = rendered.depth;
     frame.color = rendered.color;
     frame.stamp = k * study.frame_interval;
-    const Cloud::Ptr cloud = MakeOrganizedCloud(frame, camera, config.frontend.cloud);
-    const FrameModel model = frontend.Process(*cloud);
-    if (!tracker) tracker.emplace(config.tracking, T_world_camera);  // anchored at the true first pose
-    const TrackResult result = tracker->Track(model, *cloud, frame.stamp);
+    if (!mapper) mapper.emplace(camera, config.mapper(), patterns, T_world_camera, /*smoothing=*/false);
+    const TrackResult result = mapper->Add(frame).track;
     tracked += result.status != TrackStatus::kLost;
     tracked_poses.push_back(result.T_world_camera);
   }
@@ -234,18 +229,18 @@ std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run
   for (const ObjectTruth& t : sim::ObjectTruths(scene)) {
     if (t.name == object.name) truth = t;
   }
-  std::vector<StudyRow> rows{Score(run, "tracking", tracker->map(), truth, config.eval)};
+  std::vector<StudyRow> rows{Score(run, "tracking", mapper->map(), truth, config.eval)};
   rows.back().pose_error = largest_error(tracked_poses);
   if (study.backend) {
-    const BatchResult batch = RefineBatch(tracker->map(), tracker->observations(), config.backend);
+    const BatchResult batch = mapper->Refine();
     // As `planemap map --refine`: an unusable solve keeps tracking's map, and says so.
     const bool usable = batch.report.usable;
-    rows.push_back(Score(run, "backend", usable ? batch.map : tracker->map(), truth, config.eval));
+    rows.push_back(Score(run, "backend", usable ? batch.map : mapper->map(), truth, config.eval));
     rows.back().pose_error = largest_error(usable ? batch.poses : tracked_poses);
     if (!usable) rows.back().note = "back end failed (" + batch.report.termination + "): tracking's map";
   }
   if (seen) {
-    seen->map = tracker->map();
+    seen->map = mapper->map();
     seen->truth.clear();
     seen->tracked.clear();
     for (size_t k = 0; k < truth_poses.size(); ++k) {

@@ -15,6 +15,7 @@
 #include "planemap/nav/planner.h"
 #include "planemap/nav/search.h"
 #include "planemap/nav/simulated_humanoid.h"
+#include "planemap/pipeline/mapper.h"
 #include "planemap/sim/virtual_camera.h"
 
 namespace planemap {
@@ -50,10 +51,17 @@ struct AppConfig {
     v("search", search);
     v("odometry_calibration", odometry_calibration);
   }
+
+  // The live pipeline's sections.
+  MapperConfig mapper() const { return {frontend, tracking, backend, merge}; }
 };
 
+// The folder holding the files the tool ships (configs/, web/): <prefix>/share/planemap beside an
+// installed tool (<prefix>/bin/planemap), else the source tree the tool was built from.
+std::string ShippedDataDir();
+
 // Finds a file shipped in configs/: `path` itself when it exists, else the same path under the
-// source tree's configs/ (so the tool runs from any folder). Returns `path` unchanged if neither.
+// shipped configs/ (so the tool runs from any folder). Returns `path` unchanged if neither.
 std::string ResolveConfigPath(const std::string& path);
 
 }  // namespace planemap
