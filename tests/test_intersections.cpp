@@ -208,8 +208,11 @@ TEST(Intersections, SilhouetteEndsAreNotBeyondTheFace) {
   const EdgeFigures on_plane = Evaluate(testing::BoxViewpoints(), on);
   const EdgeFigures noisy = Evaluate(testing::BoxViewpoints(), raw);
   ASSERT_GE(on_plane.free_end_error.size(), 30u);
-  EXPECT_LE(std::abs(Median(on_plane.free_end_error)), 0.001) << "m";
-  EXPECT_LT(std::abs(Median(on_plane.free_end_error)), std::abs(Median(noisy.free_end_error))) << "m";
+  // Not beyond the face, and short of its end by less than a pixel (1.7-5 mm at 1-3 m) ...
+  EXPECT_LE(Median(on_plane.free_end_error), 0.0002) << "m";
+  EXPECT_GE(Median(on_plane.free_end_error), -0.001) << "m";
+  // ... where the raw points' ends lie farther out.
+  EXPECT_GT(Median(noisy.free_end_error), Median(on_plane.free_end_error)) << "m";
 }
 
 TEST(Intersections, EdgesLeavingTheImageAreCut) {

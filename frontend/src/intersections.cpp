@@ -306,11 +306,29 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
     return v * camera.width + u;
   };
   Eigen::Vector3d x;
+  // A pixel without depth past the end shows nothing. Before the camera has seen past the end it
+  // may be one of the edge's faces going on, seen at a grazing angle: then the end is cut. Where
+  // both faces are seen more squarely than grazing_angle_deg, such a face would have depth, and the
+  // pixel is the sensor's dropout at the depth edge; the pixels with depth decide, and without
+  // any (a shadow band) the end is cut.
+  const double cos_grazing = std::cos(c.grazing_angle_deg * kDegToRad);
+  auto grazing = [&](const Eigen::Vector3d& ray) {
+    for (int f : {a, b}) {
+      if (std::abs(planes[f].plane.normal.dot(ray)) < cos_grazing * ray.norm()) return true;
+    }
+    return false;
+  };
+  bool seen_past = false;  // something with depth beyond the end, off the edge's faces
+  int without_depth = 0;
   for (int k = 0; k <= c.cut_search; ++k) {
     const int i = pixel_past(k, c.border_margin, &x);
     if (i < 0) return true;
     if (k < 2) continue;  // the end pixel itself and its neighbour are on the edge
-    if (!IsValidPoint(cloud[i])) return true;
+    if (!IsValidPoint(cloud[i])) {
+      if (!seen_past && grazing(x)) return true;
+      ++without_depth;
+      continue;
+    }
     const int owner = plane_of_pixel[i];
     const Eigen::Vector3d seen(cloud[i].x, cloud[i].y, cloud[i].z);
     const bool through = owner >= 0 && owner != a && owner != b &&
@@ -319,7 +337,9 @@ bool IsCut(const Eigen::Vector3d& end, const Eigen::Vector3d& outward, int a, in
     if (through) return hidden_by(owner);
     if (owner == a || owner == b) continue;  // the edge's own face cannot hide it
     if (cloud[i].z < x.z() - c.occluder_min_gap) return true;
+    seen_past = true;
   }
+  if (without_depth > 0 && !seen_past) return true;
   // One of the edge's own faces (not the floor, which goes on past an object's bottom edge) runs
   // on along the line past the end, up to another plane through the line or something nearer,
   // or for face_run_length: the other face stopped there without a corner, so something hides it

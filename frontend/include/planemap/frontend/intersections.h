@@ -17,6 +17,10 @@ struct IntersectionConfig {
   double min_angle_deg = 30.0;     // planes closer to parallel do not intersect [deg]
   int border_margin = 4;           // an edge end this close to the image border is cut [px]
   int cut_search = 6;              // an end with no depth within this many pixels beyond it is cut [px]
+  // A face seen at more than this ray-to-normal angle may go on past an end without depth (a
+  // structured-light sensor reads nothing there); at less, a pixel without depth past the end is
+  // the sensor's dropout at the depth edge, not the face [deg].
+  double grazing_angle_deg = 70.0;
   double occluder_min_gap = 0.02; // a surface this much nearer than the edge's continuation hides it [m]
   double end_max_distance = 0.15;  // a nearer surface beyond an end ends the edge only if its
                                    // point there lies this close to the end [m]
@@ -84,6 +88,7 @@ struct IntersectionConfig {
     v("min_angle_deg", min_angle_deg, Check::kPositive);
     v("border_margin", border_margin, Check::kNonNegative);
     v("cut_search", cut_search, Check::kPositive);
+    v("grazing_angle_deg", grazing_angle_deg, Check::kNonNegative);
     v("occluder_min_gap", occluder_min_gap, Check::kPositive);
     v("end_max_distance", end_max_distance, Check::kPositive);
     v("support_tolerance", support_tolerance, Check::kPositive);
