@@ -151,6 +151,21 @@ void FindFaces(const Cloud& cloud, const PlaneGraphConfig& config, FrameModel* m
       parent[Find(parent, std::max(a, b))] = Find(parent, std::min(a, b));
     }
   }
+  // Pieces of the floor: room structure as parallel to the floor and as close to the plane fitted
+  // to both as a face's pieces are (a strip of floor the segmenter found apart, beside a box's
+  // base at a glancing angle) is the floor, so a box's sides meet the floor there.
+  if (model->floor >= 0) {
+    const int floor = model->floor;
+    for (int p = 0; p < n; ++p) {
+      if (p == floor || !model->structure[p] ||
+          planes[p].plane.normal.dot(planes[floor].plane.normal) < cos_max) {
+        continue;
+      }
+      const Plane both = joint({floor, p});
+      if (std::max(rms_to(both, planes[floor].inliers), rms_to(both, planes[p].inliers)) > config.face_piece_max_rms) continue;
+      parent[Find(parent, p)] = Find(parent, floor);
+    }
+  }
   std::vector<std::vector<int>> members(n);
   for (int p = 0; p < n; ++p) members[Find(parent, p)].push_back(p);
   for (int root = 0; root < n; ++root) {
