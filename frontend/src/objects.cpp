@@ -57,8 +57,13 @@ struct Matcher {
   }
 };
 
+// The floor, or a piece of it (FindFaces).
+bool OnFloor(const FrameModel& model, int plane) {
+  return model.floor >= 0 && model.FaceOf(plane) == model.FaceOf(model.floor);
+}
+
 std::string Orientation(const FrameModel& model, int plane, const Eigen::Vector3d& up, double tolerance) {
-  if (model.floor >= 0 && model.FaceOf(plane) == model.FaceOf(model.floor)) return "floor";  // the floor, or a piece of it
+  if (OnFloor(model, plane)) return "floor";
   const double c = std::abs(model.planes[plane].plane.normal.dot(up));
   if (c > std::cos(tolerance)) return "horizontal";
   if (c < std::sin(tolerance)) return "vertical";
@@ -335,7 +340,7 @@ void ClassifyObjects(const PatternsConfig& patterns, const ObjectConfig& config,
     std::vector<int> graph = object.planes;
     // The floor's pieces (FindFaces): a side may meet the floor in one of them.
     for (int p = 0; p < static_cast<int>(model->planes.size()); ++p) {
-      if (model->floor >= 0 && model->FaceOf(p) == model->FaceOf(model->floor)) graph.push_back(p);
+      if (OnFloor(*model, p)) graph.push_back(p);
     }
     if (object.support >= 0 && std::find(graph.begin(), graph.end(), object.support) == graph.end()) graph.push_back(object.support);
     // An object of two faces is upright on its support.
@@ -410,9 +415,8 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
     //    then reaches at least that far, and the complete edge (a face split in two, say) is not
     //    its whole extent.
     std::set<int> members(object.planes.begin(), object.planes.end());
-    const auto on_floor = [&](int p) { return model->floor >= 0 && model->FaceOf(p) == model->FaceOf(model->floor); };
     for (int p = 0; p < static_cast<int>(model->planes.size()); ++p) {
-      if (on_floor(p)) members.insert(p);
+      if (OnFloor(*model, p)) members.insert(p);
     }
     if (object.support >= 0) members.insert(object.support);
     object.dimensions.setZero();
@@ -430,7 +434,7 @@ void MeasureObjects(const Cloud& cloud, const ObjectConfig& config, const Eigen:
     JoinEdgePieces(config, axis_of, &edges);
     Eigen::Vector3d longest_cut = Eigen::Vector3d::Zero();
     for (const PlaneEdge& e : edges) {
-      if (on_floor(e.plane_a) && on_floor(e.plane_b)) continue;
+      if (OnFloor(*model, e.plane_a) && OnFloor(*model, e.plane_b)) continue;
       const int k = axis_of(e.direction);
       if (k < 0) continue;
       if (!e.Complete()) longest_cut[k] = std::max(longest_cut[k], e.length);

@@ -65,7 +65,6 @@ BatchResult Mapper::Refine() const { return RefineBatch(tracker_.map(), tracker_
 
 FinalMap Mapper::Finish(bool refine) const {
   FinalMap result;
-  result.map = tracker_.map();
   result.refine_asked = refine;
   if (refine) {
     // Before landmarks are fused or renumbered: the observations name the tracker's landmarks.
@@ -77,6 +76,7 @@ FinalMap Mapper::Finish(bool refine) const {
       result.covariance_error = batch.covariance_error;
     }
   }
+  if (!refine || !result.refine.usable) result.map = tracker_.map();  // tracking's map
   result.fused_planes = FuseDuplicateLandmarks(config_.merge, &result.map);
   result.fused_objects = FuseDuplicateObjects(config_.merge, &result.map);
   return result;
