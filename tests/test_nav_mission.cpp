@@ -468,8 +468,10 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
     EXPECT_NE(why.find("every candidate face was looked at again (1 viewpoints)"), std::string::npos) << why;
   }
   FakeHumanoid robot({}, {}, 1);
-  SearchConfig none;
+  SearchConfig none;  // no face to look at, no exploring, no turning: nothing left
   none.views_max = 0;
+  none.explore = false;
+  none.turns_max = 0;
   std::string why;
   EXPECT_FALSE(Search(none, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot)
                    .Next(SearchRoom(true), Pose2{}, TargetDescription{}, &why));

@@ -76,6 +76,35 @@ TEST(Planner, PathAroundABoxKeepsTheRobotRadius) {
   EXPECT_LT(plan.length, 3.6);
 }
 
+// A robot that stands 8 cm from a box (it needs 12) steps straight out of its clearance first,
+// never nearer the box than it stands, then walks on; one standing inside the box cannot.
+TEST(Planner, AStartInsideTheClearanceStepsOutFirst) {
+  PlaneMap map = EmptyRoom();
+  map.objects.push_back(Box({1.0, 0.0, 0.2}, 0.0, {0.4, 0.4, 0.4}));  // x in [0.8, 1.2]
+  const PlannerConfig config;
+  const OccupancyGrid grid = BuildOccupancyGrid(map, config);
+  const Footprint box = FootprintOf(map.objects[0]);
+  const Pose2 start{0.72, 0.0, 0.0};  // 8 cm from the box's -x face
+  ASSERT_FALSE(grid.Free(start.Position()));
+  const PlanResult plan = PlanPath(grid, start, {2.5, 0.0, 0.0});
+  ASSERT_TRUE(plan.ok) << plan.reason;
+  ASSERT_GE(plan.path.size(), 3u);
+  const Eigen::Vector2d out = plan.path[1].Position();
+  EXPECT_TRUE(grid.Free(out));
+  EXPECT_LE(100.0 * (out - start.Position()).norm(), 100.0 * (config.robot_radius + config.clearance_margin) + 0.1);
+  EXPECT_GE(100.0 * box.Distance(out), 100.0 * config.robot_radius - 2.0);  // the grid's cells: within 2 cm
+  // The step comes no nearer the box than the start; after it, the path keeps the radius.
+  const double at_start = box.Distance(start.Position());
+  const std::vector<Eigen::Vector2d> step = Samples({plan.path[0], plan.path[1]});
+  for (const Eigen::Vector2d& p : step) EXPECT_GE(100.0 * box.Distance(p), 100.0 * at_start - 0.5);
+  std::vector<Pose2> rest(plan.path.begin() + 1, plan.path.end());
+  for (const Eigen::Vector2d& p : Samples(rest)) EXPECT_GE(100.0 * box.Distance(p), 100.0 * config.robot_radius - 2.0);
+
+  const PlanResult inside = PlanPath(grid, {1.0, 0.0, 0.0}, {2.5, 0.0, 0.0});
+  EXPECT_FALSE(inside.ok);
+  EXPECT_NE(inside.reason.find("no step out of it"), std::string::npos) << inside.reason;
+}
+
 TEST(Planner, WallPointsInTheHeightBandAreObstacles) {
   PlaneMap map = EmptyRoom();
   // A wall from y = -1.5 to 0.6 at x = 1.5, 1 m high: only its landmark points mark it.

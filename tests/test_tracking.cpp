@@ -382,6 +382,40 @@ TEST(Tracking, FacingOnePlaneWithOdometryThePoseIsLostByMotionNotByFrames) {
   EXPECT_NEAR(first_lost[2], config.lost_after_distance / 0.005 + 1, 1.0);
 }
 
+// A robot facing open floor in a large room (a generated room's start may show nothing else):
+// the floor alone holds no heading, so with odometry the heading is the odometry's and the pose is
+// not lost however far the robot walks (90 frames, 1 cm a frame: three times lost_after_distance);
+// without odometry the rotation is the motion model's guess and the pose is lost after lost_after.
+TEST(Tracking, OnOpenFloorWithOdometryTheHeadingIsTheOdometrysAndNotLost) {
+  const RenderedViews views("configs/scenes/hall.yaml", 1);
+  Pose3 start = nav::NominalCameraPose(nav::Pose2{3.0, -1.5, M_PI}, nav::HumanoidConfig{});
+  start.linear() = start.linear() * Eigen::AngleAxisd(-45.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()).matrix();  // 65 deg down
+  const TrackingConfig config;
+  const int frames = 3 * config.lost_after;
+  int first_lost[2] = {-1, -1};
+  double error = 0.0;
+  for (int run = 0; run < 2; ++run) {  // 0: no odometry, 1: odometry
+    Tracker tracker(config, start);
+    for (int k = 0; k < frames; ++k) {
+      const Pose3 truth = Pose3(Eigen::Translation3d(-0.01 * k, 0.0, 0.0)) * start;
+      std::optional<Pose3> odometry;
+      if (run == 1) odometry = truth;
+      const TrackResult r = views.Track(tracker, truth, k, k / 15.0, odometry);
+      if (k == 0) {
+        EXPECT_EQ(r.planes, 1) << "the floor only";
+      }
+      if (r.status == TrackStatus::kLost && first_lost[run] < 0) first_lost[run] = k;
+      if (run == 1) error = std::max(error, (r.T_world_camera.translation() - truth.translation()).norm());
+    }
+  }
+  std::printf("walking 0.9 m over open floor: first lost frame without odometry %d, with odometry %d (largest "
+              "position error %.2f cm)\n",
+              first_lost[0], first_lost[1], 100.0 * error);
+  EXPECT_EQ(first_lost[0], config.lost_after + 1);
+  EXPECT_EQ(first_lost[1], -1);
+  EXPECT_LT(error, 0.01) << "m";
+}
+
 // The gallery's start (configs/scenes/gallery.yaml, seed 13): the floor, the crate's face 0.9 m
 // ahead and the locker's side 3.6 m away, a sliver at the image's corner. With the segmenter's
 // robust check off (frontend.segmentation.organized.robust_check_share), the sliver takes in the

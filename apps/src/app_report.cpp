@@ -2,12 +2,36 @@
 
 #include <cstdarg>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "planemap/apps/app_config.h"
+#include "planemap/core/error.h"
 #include "planemap/frontend/map_merge.h"
 #include "planemap/frontend/plane_outline.h"
 
 namespace planemap {
+
+std::string ReadText(const std::string& file) {
+  std::ifstream in = OpenInputFile(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void WriteFileAtomically(const std::string& file, const std::string& text) {
+  const std::string temporary = file + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) ThrowInputError(temporary, 0, "cannot write");
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, file, ec);
+  if (ec) ThrowInputError(file, 0, "cannot replace: " + ec.message());
+}
 
 std::string Printf(const char* format, ...) {
   va_list args, copy;

@@ -1,6 +1,6 @@
 #pragma once
-// What `planemap map` and `planemap approach` share for --report: the page's files, the map's
-// part of a report, and lines both printed and put in the report.
+// What the commands share: --report's page files and the map's part of a report, lines both
+// printed and put in the report, and whole-file reads and writes.
 #include <string>
 
 #include "planemap/core/plane_map.h"
@@ -8,6 +8,13 @@
 #include "planemap/report/html_report.h"
 
 namespace planemap {
+
+// A file's whole text; throws InputError naming an unreadable file.
+std::string ReadText(const std::string& file);
+
+// Writes `text` to `file` through a temporary beside it and a rename: a reader sees the old file
+// or the new one, never half of it. Throws InputError naming the file.
+void WriteFileAtomically(const std::string& file, const std::string& text);
 
 // printf into a string.
 std::string Printf(const char* format, ...) __attribute__((format(printf, 1, 2)));

@@ -129,6 +129,32 @@ int main(int argc, char** argv) {
                            "Write every camera frame as CSV here: tracking status and counts, the tracked and smoothed "
                            "base pose against the truth (with --table: every run, by scenario and seed)");
 
+  planemap::RoomsOptions rooms;
+  rooms.run.rate = 15.0;
+  CLI::App* rooms_cmd = app.add_subcommand(
+      "rooms", "The approach over generated rooms (or given scene files): per room and seed, reached, grasp check, "
+               "collision, pre-grasp error, time and the failure's reason, into a resumable CSV; a summary tallies the "
+               "failures by reason");
+  rooms_cmd->add_option("--count", rooms.count, "Rooms to generate")->capture_default_str()->check(kCountOfOne);
+  rooms_cmd->add_option("--room-seed", rooms.room_seed, "The generator's seed")->capture_default_str()->check(kCount);
+  rooms_cmd->add_option("--generator", rooms.generator, "The generator's ranges (YAML)")->capture_default_str();
+  rooms_cmd->add_option("--scenes", rooms.scenes, "Run these scene files (YAML) instead of generated rooms");
+  rooms_cmd->add_option("--scenario", rooms.run.scenario, "1, 2 or 3")->capture_default_str();
+  rooms_cmd->add_option("--seed", rooms.run.seed, "Walking and sensor noise seed of a room's first run")->capture_default_str()->check(kCount);
+  rooms_cmd->add_option("--seeds", rooms.seeds, "Runs per room")->capture_default_str()->check(kCountOfOne);
+  rooms_cmd->add_option("--rate", rooms.run.rate, "Camera frame rate [Hz]")->capture_default_str();
+  rooms_cmd->add_option("--max-time", rooms.run.max_time, "End a run after this long [s]")->capture_default_str();
+  rooms_cmd->add_option("--camera", rooms.run.camera, "Camera intrinsics (YAML)")->capture_default_str();
+  rooms_cmd->add_option("--config", rooms.run.config, "Settings (YAML)")->capture_default_str();
+  rooms_cmd->add_option("--patterns", rooms.run.patterns, "Object graph patterns (YAML)")->capture_default_str();
+  rooms_cmd->add_option("--out", rooms.out, "Output folder (default: out/rooms_<room seed>)");
+  rooms_cmd->add_option("--threads", rooms.threads, "Runs in parallel (0: every core)")->capture_default_str()->check(kCount);
+  rooms_cmd->add_option("--max-runs", rooms.max_runs, "Stop after this many new runs (0: all); run again to go on")
+      ->capture_default_str()
+      ->check(kCount);
+  rooms_cmd->add_flag("--restart", rooms.restart, "Discard the output folder's finished runs");
+  rooms_cmd->add_flag("--generate-only", rooms.generate_only, "Write the rooms' scene files and run nothing");
+
   planemap::StudyOptions study;
   CLI::App* study_cmd = app.add_subcommand(
       "study", "Accuracy study: a sweep of rendered runs (distance, viewing angle, noise, object size, segmenter) into a "
@@ -189,6 +215,7 @@ int main(int argc, char** argv) {
     if (merge_cmd->parsed()) return planemap::RunMerge(merge);
     if (approach_cmd->parsed()) return planemap::RunApproach(approach);
     if (study_cmd->parsed()) return planemap::RunStudy(study);
+    if (rooms_cmd->parsed()) return planemap::RunRooms(rooms);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "planemap %s: error: %s\n", command, e.what());
     return 1;

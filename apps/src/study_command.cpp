@@ -1,19 +1,17 @@
 // planemap study: runs a study's sweep in parallel into a resumable CSV, then prints and writes
 // the summary table and plots.
 #include <array>
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
-#include <mutex>
 #include <sstream>
 
 #include <omp.h>
 
 #include "app_report.h"
+#include "parallel_runs.h"
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/apps/study.h"
@@ -27,20 +25,6 @@ namespace fs = std::filesystem;
 namespace planemap {
 namespace {
 
-std::atomic<bool> g_interrupted{false};
-
-extern "C" void OnInterrupt(int) {
-  g_interrupted = true;
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
-}
-
-std::string ReadText(const std::string& file) {
-  std::ifstream in = OpenInputFile(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // What decides a study's rows: its settings and the text of every file it reads. A folder made with
 // other settings is not resumed into.
 std::string StudyIdentity(const StudyConfig& study) {
@@ -50,19 +34,6 @@ std::string StudyIdentity(const StudyConfig& study) {
     id << "---\n# " << file << "\n" << ReadText(ResolveConfigPath(file)) << "\n";
   }
   return id.str();
-}
-
-void WriteFileAtomically(const fs::path& file, const std::string& text) {
-  const fs::path temporary = file.string() + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) ThrowInputError(temporary.string(), 0, "cannot write");
-  }
-  std::error_code ec;
-  fs::rename(temporary, file, ec);
-  if (ec) ThrowInputError(file.string(), 0, "cannot replace: " + ec.message());
 }
 
 // A finished run as read back: its rows (and their lines) by stage, tracking first.
@@ -231,46 +202,20 @@ int RunStudy(const StudyOptions& options) {
 
   std::ofstream append(csv, std::ios::app | std::ios::binary);
   if (!append) ThrowInputError(csv.string(), 0, "cannot append");
-  g_interrupted = false;
-  auto previous = std::signal(SIGINT, OnInterrupt);
-  std::mutex mutex;
-  std::string failure;
-  size_t done = 0;
-  const double start = omp_get_wtime();
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (size_t i = 0; i < pending.size(); ++i) {
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (g_interrupted || !failure.empty()) continue;
-    }
-    omp_set_num_threads(1);  // the renderer's loops: one thread per run, the runs fill the cores
-    std::vector<StudyRow> rows;
-    try {
-      rows = RunStudyCell(study, pending[i]);
-    } catch (const std::exception& e) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (failure.empty()) failure = "run " + std::to_string(pending[i].index) + ": " + e.what();
-      continue;
-    }
-    std::string text;
-    for (const StudyRow& row : rows) text += StudyCsvLine(row) + "\n";
-    std::lock_guard<std::mutex> lock(mutex);
-    append << text << std::flush;  // whole runs only: an interruption cuts at most this write
-    finished[pending[i].index] = {};
-    ++done;
-    const double elapsed = omp_get_wtime() - start;
-    std::fprintf(stderr, "\r  %zu/%zu runs, %.0f s, about %.0f s to go   ", resumed + done, runs.size(), elapsed,
-                 elapsed / done * (pending.size() - done));
-  }
-  std::signal(SIGINT, previous);
+  const ParallelRuns ran = RunInParallel(
+      pending.size(), threads, resumed, runs.size(), append,
+      [&](size_t i) {
+        std::string text;
+        for (const StudyRow& row : RunStudyCell(study, pending[i])) text += StudyCsvLine(row) + "\n";
+        return text;
+      },
+      [&](size_t i) { return "run " + std::to_string(pending[i].index); });
   append.close();
-  std::fprintf(stderr, "\n");
-  if (!failure.empty()) throw InputError(failure);
   if (!append) ThrowInputError(csv.string(), 0, "write failed");
-  if (finished.size() < runs.size()) {
+  if (resumed + ran.done < runs.size()) {
     std::printf("planemap study %s: %zu of %zu runs in %s; run the same command again to resume\n", study.name.c_str(),
-                finished.size(), runs.size(), csv.string().c_str());
-    return g_interrupted ? 130 : 0;
+                resumed + ran.done, runs.size(), csv.string().c_str());
+    return ran.interrupted ? 130 : 0;
   }
 
   // Every run is in: the CSV in run order (the same whatever order the runs finished in), then

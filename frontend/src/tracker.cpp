@@ -672,6 +672,21 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
     }
     unobserved = FreeDirections(normals, config_.ransac.min_normal_spread);
   }
+  // With odometry, a heading that nothing in the map holds (every landmark horizontal: the floor
+  // alone, for a robot that starts facing open floor in a large room) is the odometry's to give.
+  // No mapped surface can disagree with it, so it is not lost over it, and the first wall seen is
+  // mapped at it and holds it from then on. A landmark holds the heading when its normal leans
+  // from the vertical by as much as a plane pair must spread (ransac.min_normal_spread).
+  if (!rotation_observed && T_odometry_camera) {
+    bool heading_held = false;
+    for (const PlaneLandmark& l : map_.landmarks) {
+      heading_held = heading_held || l.plane.normal.head<2>().norm() >= config_.ransac.min_normal_spread;
+    }
+    if (!heading_held) {
+      rotation_observed = true;
+      result.reason += "; the map holds no heading yet: the odometry's is taken";
+    }
+  }
   blind_run_ = rotation_observed || first ? 0 : blind_run_ + 1;
   if (rotation_observed || first) odometry_at_rotation_ = T_odometry_camera;
   if (T_odometry_camera && odometry_at_rotation_) {

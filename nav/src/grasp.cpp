@@ -118,15 +118,17 @@ StandoffBand GraspBand(const MapObject& object, const GraspGeometry& faces, cons
   return band;
 }
 
-Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& config,
-                                const Eigen::Vector2d& toward_robot) {
+std::vector<Eigen::Vector2d> GraspSides(const MapObject& object, const GraspConfig& config,
+                                        const Eigen::Vector2d& toward_robot) {
   const Footprint footprint = FootprintOf(object);
   const Eigen::Vector2d toward = toward_robot.norm() > 1e-9 ? Eigen::Vector2d(toward_robot.normalized())
                                                             : Eigen::Vector2d(footprint.axes.col(0));
-  // A feasible side facing the robot beats one facing away; among equals, the widest band wins.
-  std::optional<Eigen::Vector2d> best;
-  bool best_facing = false;
-  double best_width = 0.0;
+  struct Side {
+    Eigen::Vector2d axis;
+    bool facing;
+    double width;
+  };
+  std::vector<Side> feasible;
   for (int s = 0; s < 2; ++s) {
     for (double sign : {1.0, -1.0}) {
       const Eigen::Vector2d side = sign * footprint.axes.col(s);
@@ -134,15 +136,26 @@ Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& conf
       if (faces.width < config.hand_span_min || faces.width > config.hand_span_max) continue;
       const StandoffBand band = GraspBand(object, faces, config);
       if (band.Empty()) continue;
-      const bool facing = side.dot(toward) > 0.0;
-      if (!best || (facing && !best_facing) || (facing == best_facing && band.Width() > best_width + 1e-9)) {
-        best = side;
-        best_facing = facing;
-        best_width = band.Width();
-      }
+      feasible.push_back({side, side.dot(toward) > 0.0, band.Width()});
     }
   }
-  if (best) return *best;
+  // A feasible side facing the robot beats one facing away; among equals, the widest band wins.
+  std::stable_sort(feasible.begin(), feasible.end(), [](const Side& a, const Side& b) {
+    if (a.facing != b.facing) return a.facing;
+    return a.width > b.width;
+  });
+  std::vector<Eigen::Vector2d> sides;
+  for (const Side& s : feasible) sides.push_back(s.axis);
+  return sides;
+}
+
+Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& config,
+                                const Eigen::Vector2d& toward_robot) {
+  const std::vector<Eigen::Vector2d> sides = GraspSides(object, config, toward_robot);
+  if (!sides.empty()) return sides.front();
+  const Footprint footprint = FootprintOf(object);
+  const Eigen::Vector2d toward = toward_robot.norm() > 1e-9 ? Eigen::Vector2d(toward_robot.normalized())
+                                                            : Eigen::Vector2d(footprint.axes.col(0));
   const Eigen::Vector2d horizontal = object.grasp_axis.head<2>();
   if (object.has_grasp_axis && horizontal.norm() >= kMinHorizontal * object.grasp_axis.norm())
     return ClosestSide(footprint, horizontal);

@@ -117,14 +117,15 @@ PlanResult MakePlan(State& s, const Pose2& from) {
   return result;
 }
 
-// The pre-grasp pose, grasp face and grid follow the object's latest estimate.
-void Retarget(State& s, const Pose2& from) {
+// The pre-grasp pose, grasp face and grid follow the object's latest estimate. The grasp side is
+// `side`'s nearest when given (the side a plan reached), else chosen anew (ChooseGraspSide).
+void Retarget(State& s, const Pose2& from, const std::optional<Eigen::Vector2d>& side = std::nullopt) {
   MapObject& planned = s.map.objects[s.object_index];
   const std::vector<int> faces = planned.landmarks;  // the grid leaves the target's faces out
   planned = s.object;
   planned.landmarks = faces;
   const Eigen::Vector2d toward_robot = from.Position() - s.object.center.head<2>();
-  s.grasp_axis = ChooseGraspSide(s.object, s.grasp, toward_robot);
+  s.grasp_axis = side ? GraspFaces(s.object, *side).axis : ChooseGraspSide(s.object, s.grasp, toward_robot);
   s.pre_grasp = PreGraspPose(s.object, s.grasp, s.grasp_axis);
   s.planned_center = s.object.center.head<2>();
   s.planned_axes = s.object.axes;
@@ -138,7 +139,7 @@ bool Replan(State& s, const Pose2& from, bool retarget) {
   }
   ++s.replans;
   ++s.plan;
-  if (retarget) Retarget(s, from);
+  if (retarget) Retarget(s, from, s.grasp_axis);
   const PlanResult result = MakePlan(s, from);
   if (!result.ok)
     Finish(s, Outcome::kStopped, "re-planning from the estimated pose failed: " + result.reason);
@@ -147,7 +148,8 @@ bool Replan(State& s, const Pose2& from, bool retarget) {
 
 void PathStep(State& s, double time, const Pose2& estimate);
 
-// Walks `command` (base frame) if its straight leg from the estimate is free; else re-plans
+// Walks `command` (base frame) if its straight leg from the estimate is free (or, from inside the
+// clearance, comes no nearer an obstacle); else re-plans
 // (scenarios 2, 3) or stops (scenario 1: the open loop has no plan to change).
 // Scenario 1 also stops when the leg would keep less than open_loop_margin: it cannot correct
 // the gait's error on the way.
@@ -164,7 +166,9 @@ bool Issue(State& s, double time, const Pose2& estimate, const Pose2& command) {
                                      100.0 * slack, 100.0 * s.config.open_loop_margin)));
     return false;
   }
-  if (slack < 0.0) {
+  // A robot standing inside its clearance may walk a leg that comes no nearer an obstacle than it
+  // stands (stepping out, PlanPath); any other leg must keep the clearance.
+  if (slack < std::min(0.0, s.grid.Slack(estimate.Position())) - 1e-9) {
     if (!Replan(s, estimate, false)) return false;
     PathStep(s, time, estimate);  // at the start of the new plan; bounded by max_replans
     return false;
@@ -350,18 +354,31 @@ PlanResult Mission::Plan(const PlaneMap& map, int object_index, const Pose2& sta
   s.map = map;
   s.object_index = object_index;
   s.object = map.objects[object_index];
-  Retarget(s, start_estimate);
-  const GraspCheck check = CheckGrasp(s.object, s.pre_grasp, s.grasp);
-  if (!check.ok) {
-    failure.reason = "object " + std::to_string(object_index) +
-                     " cannot be grasped from its pre-grasp pose: " + check.reason;
-    return failure;
+  // Every side the hands can span, the preferred first (ChooseGraspSide's order): a side whose
+  // pre-grasp pose no path reaches (a box by a wall, in a corner) gives way to the next.
+  std::vector<Eigen::Vector2d> sides = GraspSides(s.object, s.grasp, start_estimate.Position() - s.object.center.head<2>());
+  if (sides.empty()) sides.push_back(ChooseGraspSide(s.object, s.grasp, start_estimate.Position() - s.object.center.head<2>()));
+  PlanResult first_failure;
+  for (size_t k = 0; k < sides.size(); ++k) {
+    Retarget(s, start_estimate, sides[k]);
+    const GraspCheck check = CheckGrasp(s.object, s.pre_grasp, s.grasp);
+    if (!check.ok) {
+      failure.reason = "object " + std::to_string(object_index) +
+                       " cannot be grasped from its pre-grasp pose: " + check.reason;
+      if (first_failure.reason.empty()) first_failure = failure;
+      continue;
+    }
+    PlanResult result = MakePlan(s, start_estimate);
+    if (!result.ok) {
+      if (first_failure.reason.empty()) first_failure = result;
+      continue;
+    }
+    MakeLegs(s);
+    s.status = {Outcome::kRunning, "walking to the pre-grasp pose"};
+    return result;
   }
-  PlanResult result = MakePlan(s, start_estimate);
-  if (!result.ok) return result;
-  MakeLegs(s);
-  s.status = {Outcome::kRunning, "walking to the pre-grasp pose"};
-  return result;
+  Reset(state_);
+  return first_failure;
 }
 
 PlanResult Mission::PlanTo(const PlaneMap& map, const Pose2& goal, const Pose2& start_estimate) {

@@ -262,6 +262,30 @@ std::string BlockedReason(const OccupancyGrid& grid, const char* what, const Eig
   return std::string(what) + " " + Where(p) + text;
 }
 
+// A robot standing inside its own clearance (a gait's error put it there, or an obstacle was seen
+// only up close) steps out first: the nearest free point within robot_radius + clearance_margin
+// that a straight step reaches without coming nearer any obstacle than it stands now. Nothing
+// when the start is outside the grid or no such point exists.
+std::optional<Eigen::Vector2d> StepOut(const OccupancyGrid& grid, const Eigen::Vector2d& a) {
+  if (CellIndex(grid, a) < 0) return std::nullopt;
+  const double here = grid.Slack(a);
+  const double reach = grid.config.robot_radius + grid.config.clearance_margin;
+  const int cells = static_cast<int>(std::ceil(reach / grid.resolution));
+  std::optional<Eigen::Vector2d> best;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (int dj = -cells; dj <= cells; ++dj) {
+    for (int di = -cells; di <= cells; ++di) {
+      const Eigen::Vector2d c = a + grid.resolution * Eigen::Vector2d(di, dj);
+      const double distance = (c - a).norm();
+      if (distance > reach || distance >= best_distance || !grid.Free(c)) continue;
+      if (MinSlack(grid, a, c) < here - 1e-9) continue;  // the step would come nearer an obstacle
+      best = c;
+      best_distance = distance;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 double Footprint::Distance(const Eigen::Vector2d& p) const {
@@ -341,8 +365,14 @@ OccupancyGrid BuildOccupancyGrid(const PlaneMap& map, const PlannerConfig& confi
 
 PlanResult PlanPath(const OccupancyGrid& grid, const Pose2& start, const Pose2& goal) {
   if (grid.Empty()) return Failure("the occupancy grid is empty: the map has no floor (or an absurd one)");
-  const Eigen::Vector2d a = start.Position(), b = goal.Position();
-  if (!grid.Free(a)) return Failure(BlockedReason(grid, "start", a));
+  Eigen::Vector2d a = start.Position();
+  const Eigen::Vector2d b = goal.Position();
+  std::optional<Eigen::Vector2d> step_out;
+  if (!grid.Free(a)) {
+    step_out = StepOut(grid, a);
+    if (!step_out) return Failure(BlockedReason(grid, "start", a) + ", and no step out of it keeps clear of obstacles");
+    a = *step_out;
+  }
   if (!grid.Free(b)) return Failure(BlockedReason(grid, "goal", b));
   const double set_back = grid.config.approach_distance;
   const Eigen::Vector2d approach = b - set_back * Eigen::Vector2d(std::cos(goal.theta), std::sin(goal.theta));
@@ -356,6 +386,7 @@ PlanResult PlanPath(const OccupancyGrid& grid, const Pose2& start, const Pose2& 
   if (points.empty()) points = Search(grid, a, b);
   if (points.empty())
     return Failure("no path from start " + Where(a) + " to goal " + Where(b) + " on the free floor");
+  if (step_out) points.insert(points.begin(), start.Position());
   PlanResult result;
   result.ok = true;
   result.path.push_back(start);

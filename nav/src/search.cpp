@@ -131,41 +131,45 @@ std::vector<ExploreView> ExploreViews(const PlaneMap& map, const Pose2& robot, c
   std::vector<int> stamp(state.size(), -1);
   std::vector<ExploreView> views;
   int viewpoint = 0;
+  const auto evaluate = [&](const Eigen::Vector2d& v) {
+    ++viewpoint;
+    std::vector<double> gain(kRays, 0.0);
+    for (int r = 0; r < kRays; ++r) {
+      const double a = 2.0 * M_PI * r / kRays;
+      const Eigen::Vector2d d(std::cos(a), std::sin(a));
+      for (double t = 0.5 * cell; t <= config.explore_max_range; t += 0.5 * cell) {
+        const Eigen::Vector2d q = v + t * d;
+        const int ci = static_cast<int>(std::floor((q.x() - origin.x()) / cell));
+        const int cj = static_cast<int>(std::floor((q.y() - origin.y()) / cell));
+        if (ci < 0 || cj < 0 || ci >= nx || cj >= ny) break;
+        const size_t k = static_cast<size_t>(cj) * nx + ci;
+        if (state[k] == kBlocked) break;  // the camera does not see past an obstacle
+        if (state[k] == kUnseen && t >= config.explore_min_range && stamp[k] != viewpoint) {
+          stamp[k] = viewpoint;
+          gain[r] += area;
+        }
+      }
+    }
+    // The heading whose field of view takes in the most.
+    double best = -1.0;
+    int best_ray = 0;
+    for (int r = 0; r < kRays; ++r) {
+      double sum = 0.0;
+      for (int k = -fov_rays / 2; k <= fov_rays / 2; ++k) sum += gain[(r + k + kRays) % kRays];
+      if (sum > best) best = sum, best_ray = r;
+    }
+    if (best >= config.explore_min_area) views.push_back({Pose2{v.x(), v.y(), WrapAngle(2.0 * M_PI * best_ray / kRays)}, best});
+  };
+  // Where the robot stands (turning there to look needs no walk), then every other cell of seen
+  // floor: the planner takes the floor's whole extent as free, but behind a shelf's front, say,
+  // is the shelf.
+  if (grid.Free(robot.Position())) evaluate(robot.Position());
   for (int j = 0; j < ny; j += 2) {
     for (int i = 0; i < nx; i += 2) {
       const Eigen::Vector2d v = centre(i, j);
       const double walk = (v - robot.Position()).norm();
-      // On seen floor only: the planner takes the floor's whole extent as free, but behind a
-      // shelf's front, say, is the shelf.
       if (walk > config.explore_max_walk || state[j * nx + i] != kSeen || !grid.Free(v)) continue;
-      ++viewpoint;
-      std::vector<double> gain(kRays, 0.0);
-      for (int r = 0; r < kRays; ++r) {
-        const double a = 2.0 * M_PI * r / kRays;
-        const Eigen::Vector2d d(std::cos(a), std::sin(a));
-        for (double t = 0.5 * cell; t <= config.explore_max_range; t += 0.5 * cell) {
-          const Eigen::Vector2d q = v + t * d;
-          const int ci = static_cast<int>(std::floor((q.x() - origin.x()) / cell));
-          const int cj = static_cast<int>(std::floor((q.y() - origin.y()) / cell));
-          if (ci < 0 || cj < 0 || ci >= nx || cj >= ny) break;
-          const size_t k = static_cast<size_t>(cj) * nx + ci;
-          if (state[k] == kBlocked) break;  // the camera does not see past an obstacle
-          if (state[k] == kUnseen && t >= config.explore_min_range && stamp[k] != viewpoint) {
-            stamp[k] = viewpoint;
-            gain[r] += area;
-          }
-        }
-      }
-      // The heading whose field of view takes in the most.
-      double best = -1.0;
-      int best_ray = 0;
-      for (int r = 0; r < kRays; ++r) {
-        double sum = 0.0;
-        for (int k = -fov_rays / 2; k <= fov_rays / 2; ++k) sum += gain[(r + k + kRays) % kRays];
-        if (sum > best) best = sum, best_ray = r;
-      }
-      if (best < config.explore_min_area) continue;
-      views.push_back({Pose2{v.x(), v.y(), WrapAngle(2.0 * M_PI * best_ray / kRays)}, best});
+      evaluate(v);
     }
   }
   const auto score = [&](const ExploreView& e) {
@@ -203,52 +207,63 @@ Search::~Search() = default;
 
 bool Search::Next(const PlaneMap& map, const Pose2& estimate, const TargetDescription& target,
                   std::string* reason) {
-  const int walks = static_cast<int>(viewpoints_.size()) - turns_;  // turns are not walked to
-  if (walks >= config_.views_max) {
-    *reason = "looked again from " + std::to_string(walks) + " viewpoints (search.views_max)";
-    return false;
+  int faces = 0, explores = 0;
+  for (const Viewpoint& v : viewpoints_) {
+    faces += v.Faces();
+    explores += v.Explores();
   }
-  const std::vector<SearchCandidate> candidates = SearchCandidates(map, estimate, config_, target);
-  int fresh = 0;
   std::string last_failure;
-  for (const SearchCandidate& c : candidates) {
-    if (LookedAt(viewpoints_, c, config_.visited_radius)) continue;
-    ++fresh;
-    // Both sides of the normal; the one nearer the robot first.
-    std::vector<Pose2> poses;
-    for (double side : {1.0, -1.0}) {
-      const double a = std::atan2(c.normal.y(), c.normal.x()) + side * config_.view_angle_deg * kDeg;
-      const Eigen::Vector2d p = c.center + config_.view_distance * Eigen::Vector2d(std::cos(a), std::sin(a));
-      poses.push_back({p.x(), p.y(), std::atan2(c.center.y() - p.y(), c.center.x() - p.x())});
-    }
-    if ((poses[1].Position() - estimate.Position()).norm() <
-        (poses[0].Position() - estimate.Position()).norm())
-      std::swap(poses[0], poses[1]);
-    for (const Pose2& pose : poses) {
-      if (!OnSeenFloor(map, pose.Position(), config_.explore_cell)) {
-        last_failure = "the viewpoint stands on floor not seen yet";
-        continue;
-      }
-      const PlanResult plan = walk_.PlanTo(map, pose, estimate);
-      if (plan.ok) {
-        viewpoints_.push_back({pose, c});
-        return true;
-      }
-      last_failure = plan.reason;
-    }
-  }
-  if (candidates.empty()) {
-    *reason = "no face in the map could be the target's (search candidates)";
-  } else if (fresh == 0) {
-    *reason =
-        "every candidate face was looked at again (" + std::to_string(viewpoints_.size()) + " viewpoints)";
+  if (faces >= config_.views_max) {
+    *reason = "looked again at " + std::to_string(faces) + " candidate faces (search.views_max)";
   } else {
-    *reason = "no viewpoint of the " + std::to_string(fresh) +
-              " candidate faces left can be walked to: " + last_failure;
+    const std::vector<SearchCandidate> candidates = SearchCandidates(map, estimate, config_, target);
+    int fresh = 0;
+    for (const SearchCandidate& c : candidates) {
+      if (LookedAt(viewpoints_, c, config_.visited_radius)) continue;
+      ++fresh;
+      // Both sides of the normal; the one nearer the robot first.
+      std::vector<Pose2> poses;
+      for (double side : {1.0, -1.0}) {
+        const double a = std::atan2(c.normal.y(), c.normal.x()) + side * config_.view_angle_deg * kDeg;
+        const Eigen::Vector2d p = c.center + config_.view_distance * Eigen::Vector2d(std::cos(a), std::sin(a));
+        poses.push_back({p.x(), p.y(), std::atan2(c.center.y() - p.y(), c.center.x() - p.x())});
+      }
+      if ((poses[1].Position() - estimate.Position()).norm() <
+          (poses[0].Position() - estimate.Position()).norm())
+        std::swap(poses[0], poses[1]);
+      for (const Pose2& pose : poses) {
+        if (!OnSeenFloor(map, pose.Position(), config_.explore_cell)) {
+          last_failure = "the viewpoint stands on floor not seen yet";
+          continue;
+        }
+        const PlanResult plan = walk_.PlanTo(map, pose, estimate);
+        if (plan.ok) {
+          viewpoints_.push_back({pose, c});
+          return true;
+        }
+        last_failure = plan.reason;
+      }
+    }
+    if (candidates.empty()) {
+      *reason = "no face in the map could be the target's (search candidates)";
+    } else if (fresh == 0) {
+      *reason = "every candidate face was looked at again (" + std::to_string(faces) + " viewpoints)";
+    } else {
+      *reason = "no viewpoint of the " + std::to_string(fresh) +
+                " candidate faces left can be walked to: " + last_failure;
+    }
   }
-  if (config_.explore) {
-    // Exploring: the best view that can be walked to (the first few tried).
-    const std::vector<ExploreView> views = ExploreViews(map, estimate, config_, planner_);
+  if (config_.explore && explores >= config_.explore_views_max) {
+    *reason += "; explored from " + std::to_string(explores) + " views (search.explore_views_max)";
+  } else if (config_.explore) {
+    // Exploring: the best view that can be walked to (the first few tried); none near enough,
+    // the best anywhere on the seen floor: the room is searched when no view is left.
+    std::vector<ExploreView> views = ExploreViews(map, estimate, config_, planner_);
+    if (views.empty()) {
+      SearchConfig anywhere = config_;
+      anywhere.explore_max_walk = std::numeric_limits<double>::infinity();
+      views = ExploreViews(map, estimate, anywhere, planner_);
+    }
     for (size_t k = 0; k < std::min<size_t>(views.size(), 10); ++k) {
       const PlanResult plan = walk_.PlanTo(map, views[k].pose, estimate);
       if (plan.ok) {
@@ -260,9 +275,8 @@ bool Search::Next(const PlaneMap& map, const Pose2& estimate, const TargetDescri
       last_failure = plan.reason;
     }
     char none[160];
-    std::snprintf(none, sizeof(none),
-                  "; no view within %.1f m brings %.1f m^2 of floor not seen yet into view (search.explore_*)",
-                  config_.explore_max_walk, config_.explore_min_area);
+    std::snprintf(none, sizeof(none), "; no view on the seen floor brings %.1f m^2 of floor not seen yet into view (search.explore_*)",
+                  config_.explore_min_area);
     *reason += views.empty() ? std::string(none)
                              : "; none of the " + std::to_string(views.size()) +
                                    " exploring views can be walked to: " + last_failure;

@@ -93,7 +93,23 @@ struct ApproachCommandOptions {
   std::string trace;    // every frame of every run as CSV (pose estimate against the truth); empty: none
 };
 
+// planemap rooms: the approach over generated rooms (apps/rooms.h), or over given scene files.
+struct RoomsOptions {
+  ApproachOptions run;                 // scenario, first seed, rate, settings; the scene is each room's
+  int count = 100;                     // rooms generated
+  int room_seed = 1;                   // the generator's seed
+  std::string generator = "configs/rooms/default.yaml";  // the generator's ranges
+  std::vector<std::string> scenes;     // run these scene files instead of generated rooms
+  int seeds = 1;                       // approach runs per room: seeds run.seed, run.seed + 1, ...
+  std::string out;                     // output folder; empty: out/rooms_<room_seed>
+  int threads = 0;                     // runs in parallel (0: every core)
+  int max_runs = 0;                    // stop after this many new runs (0: all); run again to go on
+  bool restart = false;                // discard the folder's finished runs
+  bool generate_only = false;          // write the rooms, run nothing
+};
+
 int RunApproach(const ApproachCommandOptions& options);
+int RunRooms(const RoomsOptions& options);
 int RunMerge(const MergeOptions& options);
 int RunRender(const RenderOptions& options);
 int RunMap(const MapOptions& options);

@@ -13,6 +13,7 @@
 // facing it, whose band is widest.
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "planemap/core/config.h"
 #include "planemap/core/plane_map.h"
@@ -68,6 +69,12 @@ struct StandoffBand {
   double Middle() const { return 0.5 * (near + far); }
 };
 StandoffBand GraspBand(const MapObject& object, const GraspGeometry& faces, const GraspConfig& config);
+
+// Every side whose width fits the hand span and whose standoff band is not empty, as unit world
+// xy axes out of those faces, in order of preference: facing the robot (`toward_robot`, from the
+// object toward the robot) first, then the widest band. Empty when none is.
+std::vector<Eigen::Vector2d> GraspSides(const MapObject& object, const GraspConfig& config,
+                                        const Eigen::Vector2d& toward_robot);
 
 // The side to grasp from, as a unit world xy axis out of that face: of the sides whose width fits
 // the hand span and whose standoff band is not empty, the one with the widest band among those

@@ -105,7 +105,9 @@ struct PlanResult {
 
 // A* (8-connected, extra cost in the clearance margin) to the approach point set back from the
 // goal along its heading, shortcut by line of sight, then the straight leg into the goal; straight
-// to the goal when that leg is impossible. Deterministic.
+// to the goal when that leg is impossible. A start inside the robot's clearance (not inside an
+// obstacle) steps out first: a straight leg to the nearest free point within robot_radius +
+// clearance_margin that comes no nearer any obstacle. Deterministic.
 PlanResult PlanPath(const OccupancyGrid& grid, const Pose2& start, const Pose2& goal);
 
 // Evenly spaced (at most `spacing` [m]) along the path, starting at its start, heading along it;

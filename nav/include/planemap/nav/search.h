@@ -17,14 +17,16 @@
 // planes as landmarks: a face too far or too uncertain for the tracker to map (`planemap
 // approach` does).
 //
-// Exploring, when no candidate face is left (a box hidden behind a shelf, or out of view): the
-// next-best view over the floor the map holds. The floor's extent, on a grid of explore_cell, is
-// seen where the floor landmark has points, blocked where the planner's grid keeps the robot off,
-// unseen elsewhere. From viewpoints on seen floor within explore_max_walk, rays every 3 deg
-// through unblocked cells find the unseen cells the camera's field of view would take in between
-// explore_min_range and explore_max_range; the view whose heading takes in the most, less
-// explore_walk_cost per metre walked, is walked to, if it brings explore_min_area or more into
-// view.
+// Exploring, when no candidate face is left or views_max faces were looked at (a box hidden
+// behind a shelf, or out of view): the next-best view over the floor the map holds. The floor's
+// extent, on a grid of explore_cell, is seen where the floor landmark has points, blocked where
+// the planner's grid keeps the robot off, unseen elsewhere. From where the robot stands and from
+// viewpoints on seen floor within explore_max_walk (anywhere on it when none there is worth it),
+// rays every 3 deg through unblocked cells find the unseen cells the camera's field of view would
+// take in between explore_min_range and explore_max_range; the view whose heading takes in the
+// most, less explore_walk_cost per metre walked, is walked to, if it brings explore_min_area or
+// more into view. The search goes on until no view is left (the room is searched), at most
+// explore_views_max views.
 //
 // Turning on the spot, when there is no view to walk to either (the robot faces a tall shelf that
 // fills the image: no floor in the map, no face to look at): the robot turns turn_step_deg, stands
@@ -48,7 +50,7 @@
 namespace planemap::nav {
 
 struct SearchConfig {
-  int views_max = 3;             // viewpoints walked to before giving up [-]
+  int views_max = 3;             // candidate faces walked to and looked at, at most [-]
   double view_distance = 0.7;    // viewpoint to the candidate face's centre [m]
   double view_angle_deg = 40.0;  // viewpoint off the face's normal, either side [deg]
   double look_time = 1.5;        // standing at a viewpoint, looking, before the next [s]
@@ -78,6 +80,8 @@ struct SearchConfig {
   double explore_max_walk = 3.0;    // viewpoints within this of the robot [m]
   double explore_min_area = 0.3;    // a view bringing less unseen floor into view is not walked to [m^2]
   double explore_walk_cost = 0.5;   // unseen floor a metre of walking must bring into view [m^2/m]
+  int explore_views_max = 12;       // exploring views walked to, at most: a bound, the room is
+                                    // searched when no view brings explore_min_area into view [-]
   // With no view left to walk to: turn on the spot by this much (counterclockwise) ... [deg]
   double turn_step_deg = 45.0;
   int turns_max = 7;                // ... at most this many times [-]
@@ -106,6 +110,7 @@ struct SearchConfig {
     v("explore_max_walk", explore_max_walk, Check::kPositive);
     v("explore_min_area", explore_min_area, Check::kNonNegative);
     v("explore_walk_cost", explore_walk_cost, Check::kNonNegative);
+    v("explore_views_max", explore_views_max, Check::kNonNegative);
     v("turn_step_deg", turn_step_deg, Check::kPositive);
     v("turns_max", turns_max, Check::kNonNegative);
   }
