@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include <omp.h>
@@ -314,6 +315,14 @@ int RunRooms(const RoomsOptions& options) {
                jobs.size(), scenes.size(), options.seeds, resumed,
                dropped ? (", " + std::to_string(dropped) + " cut or foreign lines dropped").c_str() : "", pending.size(), threads);
 
+  // Every run reads the files as they are now: an edit while the study runs changes nothing.
+  std::vector<std::shared_ptr<const ApproachInputs>> inputs(scenes.size());
+  for (const Job& j : pending) {
+    if (inputs[j.room - 1]) continue;
+    ApproachOptions o = options.run;
+    o.scene = scenes[j.room - 1];
+    inputs[j.room - 1] = LoadApproachInputs(o);
+  }
   std::ofstream append(csv, std::ios::app | std::ios::binary);
   if (!append) ThrowInputError(csv.string(), 0, "cannot append");
   const ParallelRuns ran = RunInParallel(
@@ -322,7 +331,7 @@ int RunRooms(const RoomsOptions& options) {
         ApproachOptions o = options.run;
         o.scene = scenes[pending[i].room - 1];
         o.seed = pending[i].seed;
-        return CsvLine(Row(pending[i].room, o.scene, RunApproachOnce(o))) + "\n";
+        return CsvLine(Row(pending[i].room, o.scene, RunApproachOnce(o, *inputs[pending[i].room - 1]))) + "\n";
       },
       [&](size_t i) { return "room " + std::to_string(pending[i].room) + " (" + scenes[pending[i].room - 1] + ")"; });
   append.close();
