@@ -356,8 +356,9 @@ PlanResult Mission::Plan(const PlaneMap& map, int object_index, const Pose2& sta
   s.object = map.objects[object_index];
   // Every side the hands can span, the preferred first (ChooseGraspSide's order): a side whose
   // pre-grasp pose no path reaches (a box by a wall, in a corner) gives way to the next.
-  std::vector<Eigen::Vector2d> sides = GraspSides(s.object, s.grasp, start_estimate.Position() - s.object.center.head<2>());
-  if (sides.empty()) sides.push_back(ChooseGraspSide(s.object, s.grasp, start_estimate.Position() - s.object.center.head<2>()));
+  const Eigen::Vector2d toward_robot = start_estimate.Position() - s.object.center.head<2>();
+  std::vector<Eigen::Vector2d> sides = GraspSides(s.object, s.grasp, toward_robot);
+  if (sides.empty()) sides.push_back(ChooseGraspSide(s.object, s.grasp, toward_robot));  // fails the check, with its reason
   PlanResult first_failure;
   for (size_t k = 0; k < sides.size(); ++k) {
     Retarget(s, start_estimate, sides[k]);
