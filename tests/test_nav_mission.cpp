@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <random>
 #include <vector>
@@ -275,6 +276,40 @@ TEST(Mission, NeitherPathNorWalkCrossesAnInflatedObstacle) {
   }
 }
 
+// An obstacle mapped only after the plan (a bench's seat, seen edge-on from the start): given the
+// current map, the next stop's grid holds it and the rest of the path crosses it, so the mission
+// re-plans around it and the robot keeps its clearance. Without the map it walks into it.
+TEST(Mission, AnObstacleMappedOnTheWayIsWalkedAround) {
+  PlaneMap map = Room();
+  map.objects.pop_back();  // no crate: the plan runs straight at the box
+  PlaneMap later = map;
+  later.objects.push_back(Box({1.0, 0.0, 0.2}, 0.0, {0.4, 1.2, 0.4}));  // a bench across the way
+  const Footprint bench = FootprintOf(later.objects.back());
+  const PlannerConfig planner;
+  for (const bool with_map : {true, false}) {
+    FakeHumanoid robot({0.0, 0.0, 0.0}, WalkError{}, 1);
+    Mission mission(Scenario::kObjectApproach, MissionConfig{}, planner, GraspConfig{}, &robot);
+    const PlanResult plan = mission.Plan(map, 0, {0.0, 0.0, 0.0});
+    ASSERT_TRUE(plan.ok) << plan.reason;
+    ASSERT_LT(DistanceToPath(plan.path, {1.0, 0.0}), 0.1);  // the first plan crosses the bench
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int frame = 0; frame < 200 * kRate && !mission.Done(); ++frame) {
+      const double t = frame / kRate;
+      const PlaneMap& current = t < 2.0 ? map : later;  // seen after 2 s of walking
+      mission.Update(t, robot.TruePose(), &map.objects[0], with_map ? &current : nullptr);
+      robot.Advance(1.0 / kRate);
+      nearest = std::min(nearest, bench.Distance(robot.TruePose().Position()));
+    }
+    if (with_map) {
+      EXPECT_TRUE(mission.Status().Reached()) << mission.Status().reason;
+      EXPECT_GE(mission.Replans(), 1);
+      EXPECT_GE(nearest * 100.0, planner.robot_radius * 100.0 - 1.0);  // cm; the grid's half cell
+    } else {
+      EXPECT_LT(nearest * 100.0, 1.0);  // through it
+    }
+  }
+}
+
 // A blind leg cannot correct the gait's error on the way: scenario 1 refuses one that would keep
 // less than open_loop_margin, and stops where the last accepted leg ended, that far clear.
 TEST(Mission, TheOpenLoopStopsBeforeALegWithoutMargin) {
@@ -507,6 +542,42 @@ TEST(Search, WalksToAViewpointOffTheFaceThenLooksNowhereTwice) {
   SearchConfig fov;
   fov.explore_fov_deg = 270.0;
   EXPECT_NE(message(fov).find("search.explore_fov_deg"), std::string::npos) << message(fov);
+}
+
+// A viewpoint that an obstacle seen on the way turns out to stand in (a table's leg, a bench) is
+// given up: the walk stops short with a pose estimate, not lost, and the search may go on.
+TEST(Search, AViewpointFoundBlockedOnTheWayIsGivenUp) {
+  const PlaneMap map = SearchRoom(true);
+  FakeHumanoid robot({}, {}, 1);
+  SearchConfig config;
+  config.turns_max = 0;
+  Search search(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+  std::string why;
+  ASSERT_TRUE(search.Next(map, Pose2{}, TargetDescription{}, &why)) << why;
+  const Eigen::Vector2d view = search.Viewpoints()[0].pose.Position();
+  PlaneMap later = map;
+  later.objects.push_back(Box({view.x(), view.y(), 0.2}, 0.0, {0.3, 0.3, 0.4}));  // where it would stand
+  int frame = 0;
+  for (; frame < 120 * kRate && search.Walking(); ++frame) {
+    const double t = frame / kRate;
+    search.Update(t, robot.TruePose(), t < 1.0 ? &map : &later);
+    robot.Advance(1.0 / kRate);
+  }
+  EXPECT_FALSE(search.Status().Reached());
+  EXPECT_TRUE(search.GaveUpView()) << search.Status().reason;
+  EXPECT_NE(search.Status().reason.find("blocked"), std::string::npos) << search.Status().reason;
+  EXPECT_GT(100.0 * (robot.TruePose().Position() - view).norm(), 20.0);  // it stopped short of it, cm
+  // A walk that ends lost is no view given up.
+  FakeHumanoid lost_robot({}, {}, 1);
+  Search lost(config, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &lost_robot);
+  ASSERT_TRUE(lost.Next(map, Pose2{}, TargetDescription{}, &why)) << why;
+  for (frame = 0; frame < 120 * kRate && lost.Walking(); ++frame) {
+    const double t = frame / kRate;
+    lost.Update(t, t < 1.0 ? std::optional<Pose2>(lost_robot.TruePose()) : std::nullopt, &map);
+    lost_robot.Advance(1.0 / kRate);
+  }
+  EXPECT_FALSE(lost.Status().Reached());
+  EXPECT_FALSE(lost.GaveUpView()) << lost.Status().reason;
 }
 
 // A room whose floor the map holds but for the shadow of a 1 m shelf 1.2 m ahead of the start:

@@ -105,6 +105,22 @@ TEST(Planner, AStartInsideTheClearanceStepsOutFirst) {
   EXPECT_NE(inside.reason.find("no step out of it"), std::string::npos) << inside.reason;
 }
 
+// A robot standing where the map holds an obstacle (a phantom landmark's points, a drifted one's):
+// its body stands there, so the grid clears standing_radius around it, and it steps out.
+TEST(Planner, WhereTheRobotStandsIsNoObstacle) {
+  PlaneMap map = EmptyRoom();
+  map.objects.push_back(Box({1.0, 0.05, 0.2}, 0.0, {0.1, 0.1, 0.4}));  // a 10 cm post where the robot stands
+  const PlannerConfig config;
+  const Eigen::Vector2d standing(1.0, 0.0);
+  EXPECT_EQ(BuildOccupancyGrid(map, config).Clearance(standing), 0.0);
+  const OccupancyGrid grid = BuildOccupancyGrid(map, config, {}, standing);
+  // The grid's clearance is a lower bound, by a cell's diagonal and the cell the edge falls in.
+  EXPECT_GE(grid.Clearance(standing), config.standing_radius - (1.0 + M_SQRT2) * config.resolution);
+  const PlanResult plan = PlanPath(grid, {standing.x(), standing.y(), 0.0}, {2.5, 0.0, 0.0});
+  ASSERT_TRUE(plan.ok) << plan.reason;
+  EXPECT_NEAR(plan.path.back().x, 2.5, 1e-12);
+}
+
 TEST(Planner, WallPointsInTheHeightBandAreObstacles) {
   PlaneMap map = EmptyRoom();
   // A wall from y = -1.5 to 0.6 at x = 1.5, 1 m high: only its landmark points mark it.

@@ -230,6 +230,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   nav::Mission mission(static_cast<nav::Scenario>(options.scenario), config.mission, config.planner, config.grasp, &robot);
   nav::Search search(config.search, config.mission, config.planner, config.grasp, &robot);
   double view_start = 0.0;  // when the robot began standing at the start or at its last viewpoint [s]
+  int plans_given_up = 0;   // plans left for want of a way on (Mission::Blocked)
   FrameModel last_model;     // the last frame processed, and its cloud and camera pose estimate
   Cloud::Ptr last_cloud;
   Pose3 last_T_world_camera = Pose3::Identity();
@@ -328,9 +329,9 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
     // Plan once the robot has looked around and mapped its target; without one, look again
     // from a viewpoint (nav::Search), walked to with path feedback in every scenario.
     if (!run.planned && search.Walking()) {
-      search.Update(t, estimate);
+      search.Update(t, estimate, &mapper.map());
       if (!search.Walking()) {
-        if (!search.Status().Reached()) {
+        if (!search.Status().Reached() && !search.GaveUpView()) {
           run.status = {nav::MissionStatus::Outcome::kStopped, "looking again: " + search.Status().reason};
           break;
         }
@@ -394,13 +395,21 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       const size_t before = mission.Records().size();
       const auto t4 = Clock::now();
       const MapObject* object = target >= 0 && target < static_cast<int>(mapper.map().objects.size()) ? &mapper.map().objects[target] : nullptr;
-      mission.Update(t, estimate, object);
+      mission.Update(t, estimate, object, &mapper.map());
       run.control_ms.push_back(Ms(t4, Clock::now()));
       for (size_t i = before; i < mission.Records().size(); ++i) {
         const nav::Pose2 truth = robot.TruePose();
         run.stops.push_back({mission.Records()[i], truth, nav::DistanceToPath(mission.ReferencePath(), truth.Position())});
       }
-      if (mission.Done()) {
+      // A plan that an obstacle seen on the way leaves without a way on (its goal blocked, say) is
+      // given up, and the robot chooses again from where it stands: another side of the box, or
+      // another box (mission.max_replans such plans at most).
+      if (mission.Done() && mission.Blocked() && plans_given_up < config.mission.max_replans) {
+        ++plans_given_up;
+        run.planned = false;
+        target = -1;
+        view_start = t;
+      } else if (mission.Done()) {
         run.status = mission.Status();
         break;
       }
@@ -421,6 +430,13 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   run.reference = run.planned ? mission.ReferencePath() : run.reference;
   run.footsteps = robot.Footsteps();
   run.map = mapper.map();
+  if (!scene.task_object.empty()) {
+    const sim::SceneObject& truth = (moved ? moved_scene : scene).object(scene.task_object);
+    const nav::Footprint footprint = nav::FootprintOf(TrueObject(truth, Eigen::Vector3d::UnitX()));
+    for (const MapObject& o : run.map.objects) {
+      run.task_object_mapped = run.task_object_mapped || footprint.Distance(o.center.head<2>()) == 0.0;
+    }
+  }
   if (!run.planned || !target_truth) return run;
 
   // Scores against ground truth: where the robot should stand for the face it chose.

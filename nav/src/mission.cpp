@@ -35,8 +35,9 @@ struct MissionState {
   bool command_complete = true;  // the robot, once stopped, ended the command meant for `target`
   Phase phase = Phase::kPath;
   int approach_steps = 0;
-  std::optional<double> first_time, last_estimate_time, still_since, moved_since;  // [s]
+  std::optional<double> first_time, last_estimate_time, still_since, moved_since, replanned_at;  // [s]
   bool lost = false, retarget = false;
+  bool blocked = false;  // stopped for want of a way on from where the robot stands
   MissionStatus status;
   std::vector<ControlPointRecord> records;
   std::string goal_name = "the pre-grasp pose";  // PlanTo: "the viewpoint"
@@ -135,14 +136,17 @@ void Retarget(State& s, const Pose2& from, const std::optional<Eigen::Vector2d>&
 bool Replan(State& s, const Pose2& from, bool retarget) {
   if (s.replans >= s.config.max_replans) {
     Finish(s, Outcome::kStopped, "gave up after " + std::to_string(s.replans) + " re-plans (max_replans)");
+    s.blocked = true;
     return false;
   }
   ++s.replans;
   ++s.plan;
   if (retarget) Retarget(s, from, s.grasp_axis);
   const PlanResult result = MakePlan(s, from);
-  if (!result.ok)
+  if (!result.ok) {
     Finish(s, Outcome::kStopped, "re-planning from the estimated pose failed: " + result.reason);
+    s.blocked = true;
+  }
   return result.ok;
 }
 
@@ -167,8 +171,18 @@ bool Issue(State& s, double time, const Pose2& estimate, const Pose2& command) {
     return false;
   }
   // A robot standing inside its clearance may walk a leg that comes no nearer an obstacle than it
-  // stands (stepping out, PlanPath); any other leg must keep the clearance.
-  if (slack < std::min(0.0, s.grid.Slack(estimate.Position())) - 1e-9) {
+  // stands (stepping out, PlanPath); any other leg must keep the clearance. Within half a cell:
+  // the grid's clearance is a lower bound by up to a cell's diagonal, and the planner checks its
+  // legs between cell centres, not from the exact start.
+  const double tolerance = 0.5 * s.grid.resolution;
+  if (slack < std::min(0.0, s.grid.Slack(estimate.Position())) - tolerance) {
+    if (s.replanned_at && *s.replanned_at == time) {  // a new plan would be this one again
+      Finish(s, Outcome::kStopped,
+             Format("the first leg of the plan just made crosses the clearance (%.1f cm of slack)", 100.0 * slack));
+      s.blocked = true;
+      return false;
+    }
+    s.replanned_at = time;
     if (!Replan(s, estimate, false)) return false;
     PathStep(s, time, estimate);  // at the start of the new plan; bounded by max_replans
     return false;
@@ -246,11 +260,35 @@ bool ShouldApproach(State& s, const Pose2& estimate) {
   return false;
 }
 
+// At a stop: the grid from the current map, the target kept as planned (its faces seen since are
+// its own too). Obstacles seen only on the way (a bench's seat, edge-on from the start) enter it;
+// whether the rest of the path crosses one. The leg now walked is Issue's to check.
+bool PathBlockedByNewObstacles(State& s, const Pose2& estimate, const PlaneMap& map) {
+  PlaneMap fresh = map;
+  if (s.object_index >= 0) {
+    if (s.object_index >= static_cast<int>(fresh.objects.size())) return false;  // keep the plan's grid
+    MapObject planned = s.map.objects[s.object_index];
+    planned.landmarks = fresh.objects[s.object_index].landmarks;
+    fresh.objects[s.object_index] = std::move(planned);
+  }
+  OccupancyGrid grid = BuildOccupancyGrid(fresh, s.planner, {s.object_index, s.pre_grasp}, estimate.Position());
+  if (grid.Empty()) return false;  // no floor in the map: keep the plan's grid
+  s.map = std::move(fresh);
+  s.grid = std::move(grid);
+  if (s.phase != Phase::kPath) return false;
+  for (size_t k = s.target + 1; k < s.control_points.size(); ++k) {
+    if (SegmentSlack(s.grid, s.control_points[k - 1].Position(), s.control_points[k].Position()) < 0.0) return true;
+  }
+  return false;
+}
+
 // At a stop, settled, with a fresh estimate.
-void Act(State& s, double time, const Pose2& estimate) {
-  if (s.retarget) {
+void Act(State& s, double time, const Pose2& estimate, const PlaneMap* map) {
+  const bool blocked = map != nullptr && PathBlockedByNewObstacles(s, estimate, *map);
+  if (s.retarget || blocked) {
+    const bool retarget = s.retarget;
     s.retarget = false;
-    if (!Replan(s, estimate, true)) return;
+    if (!Replan(s, estimate, retarget)) return;
   }
   if (s.phase == Phase::kApproach) return ApproachStep(s, time, estimate, true);
   if (s.command_complete && ShouldApproach(s, estimate)) {
@@ -395,7 +433,8 @@ PlanResult Mission::PlanTo(const PlaneMap& map, const Pose2& goal, const Pose2& 
   return result;
 }
 
-void Mission::Update(double time, const std::optional<Pose2>& estimate, const MapObject* object_estimate) {
+void Mission::Update(double time, const std::optional<Pose2>& estimate, const MapObject* object_estimate,
+                     const PlaneMap* map) {
   MissionState& s = *state_;
   if (s.status.outcome != Outcome::kRunning) return;
   if (!s.first_time) s.first_time = time;
@@ -407,12 +446,13 @@ void Mission::Update(double time, const std::optional<Pose2>& estimate, const Ma
     return;
   }
   if (!s.still_since) s.still_since = time;
-  if (time - *s.still_since >= s.config.settle_time && estimate) Act(s, time, *estimate);
+  if (time - *s.still_since >= s.config.settle_time && estimate) Act(s, time, *estimate, map);
 }
 
 bool Mission::Done() const {
   return Status().outcome == Outcome::kReached || Status().outcome == Outcome::kStopped;
 }
+bool Mission::Blocked() const { return state_->blocked; }
 MissionStatus Mission::Status() const { return state_->status; }
 const std::vector<ControlPointRecord>& Mission::Records() const { return state_->records; }
 const std::vector<Pose2>& Mission::ReferencePath() const { return state_->path; }

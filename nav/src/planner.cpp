@@ -352,8 +352,13 @@ OccupancyGrid BuildOccupancyGrid(const PlaneMap& map, const PlannerConfig& confi
   grid.origin = low - Eigen::Vector2d::Constant(config.floor_margin);
   grid.width = static_cast<int>(std::ceil(cells.x())) + 1;
   grid.height = static_cast<int>(std::ceil(cells.y())) + 1;
-  const std::vector<double> squared =
-      SquaredDistanceTransform(ObstacleCells(map, grid, floor_landmark, low, high), grid.width, grid.height);
+  std::vector<std::uint8_t> blocked = ObstacleCells(map, grid, floor_landmark, low, high);
+  if (standing) {  // where the robot's body stands is no obstacle, whatever the map holds there
+    for (size_t k = 0; k < blocked.size(); ++k) {
+      if ((CellCentre(grid, static_cast<int>(k)) - *standing).norm() <= config.standing_radius) blocked[k] = 0;
+    }
+  }
+  const std::vector<double> squared = SquaredDistanceTransform(blocked, grid.width, grid.height);
   // From cell centres to cell centres; any point of either cell is at most a diagonal nearer.
   grid.clearance.resize(squared.size());
   for (size_t k = 0; k < squared.size(); ++k) {

@@ -299,8 +299,8 @@ bool Search::Next(const PlaneMap& map, const Pose2& estimate, const TargetDescri
   return true;
 }
 
-void Search::Update(double time, const std::optional<Pose2>& estimate) {
-  if (!turning_) return walk_.Update(time, estimate, nullptr);
+void Search::Update(double time, const std::optional<Pose2>& estimate, const PlaneMap* map) {
+  if (!turning_) return walk_.Update(time, estimate, nullptr, map);
   if (robot_->IsWalking()) {
     turn_still_since_.reset();
     return;
@@ -317,6 +317,11 @@ MissionStatus Search::Status() const {
     return {MissionStatus::Outcome::kReached, "turned on the spot"};
   }
   return walk_.Status();
+}
+
+bool Search::GaveUpView() const {
+  return !turning_ && !viewpoints_.empty() && !viewpoints_.back().turn &&
+         walk_.Status().outcome == MissionStatus::Outcome::kStopped && walk_.Blocked();
 }
 
 const std::vector<Viewpoint>& Search::Viewpoints() const { return viewpoints_; }

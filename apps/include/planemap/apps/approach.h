@@ -107,6 +107,9 @@ struct ApproachRun {
   std::vector<nav::Footstep> footsteps;  // where the feet really landed
   std::vector<ApproachFrame> trace;      // every camera frame
   PlaneMap map;                          // the tracker's map at the end
+  // Whether that map holds an object centred on the scene's task object's true footprint
+  // (telling "never mapped" from "mapped and rejected" apart); false without a task object.
+  bool task_object_mapped = false;
 
   // Approached another object than the scene's task names.
   bool WrongObject() const { return planned && !intended.empty() && target != intended; }

@@ -107,11 +107,17 @@ class Mission {
   // A walk to a pose with no object (nav::Search's viewpoints): the same path following, no
   // approach phase, no object to watch; Update() gets a null object.
   PlanResult PlanTo(const PlaneMap& map, const Pose2& goal, const Pose2& start_estimate);
-  // Every camera frame: time [s], the estimated base pose (nullopt: frame lost) and the target
-  // object's current estimate (world; may be null).
-  void Update(double time, const std::optional<Pose2>& estimate, const MapObject* object_estimate);
+  // Every camera frame: time [s], the estimated base pose (nullopt: frame lost), the target
+  // object's current estimate (world; may be null) and the current map (may be null). With a map,
+  // every stop rebuilds the grid from it: an obstacle mapped since the plan (seen only on the way)
+  // that the rest of the path crosses makes a re-plan; the next leg is checked against it.
+  void Update(double time, const std::optional<Pose2>& estimate, const MapObject* object_estimate,
+              const PlaneMap* map = nullptr);
 
   bool Done() const;
+  // Stopped for want of a way on from where the robot stands: a re-plan found no path (an obstacle
+  // seen on the way blocks the goal or every way there), or max_replans were used.
+  bool Blocked() const;
   MissionStatus Status() const;
   const std::vector<ControlPointRecord>& Records() const;
   const std::vector<Pose2>& ReferencePath() const;

@@ -35,6 +35,9 @@ struct PlannerConfig {
   // Map points and objects this close to the target's footprint are the target's own surfaces
   // (a face the tracker holds twice, a part taken for an object), not obstacles.
   double target_margin = 0.05;          // [m]
+  // Where the robot stands, its body: the map's obstacles within this of it are its own misplaced
+  // surfaces (a phantom, a drifted landmark), not obstacles; it steps out from there (PlanPath) [m]
+  double standing_radius = 0.08;
 
   template <class V>
   void VisitFields(V&& v) {
@@ -49,6 +52,7 @@ struct PlannerConfig {
     v("approach_distance", approach_distance, Check::kNonNegative);
     v("final_leg_radius", final_leg_radius, Check::kNonNegative);
     v("target_margin", target_margin, Check::kNonNegative);
+    v("standing_radius", standing_radius, Check::kNonNegative);
   }
 };
 
@@ -91,7 +95,7 @@ struct OccupancyGrid {
 // Floor = free, out of the floor's extent = blocked; other landmarks' points in the height band
 // and object footprints are obstacles. Empty when the map has no floor.
 // `standing`: where the robot stands; the floor under and around it is free although the camera,
-// pitched down ahead, has not seen it.
+// pitched down ahead, has not seen it, and no obstacle lies within standing_radius of it.
 OccupancyGrid BuildOccupancyGrid(const PlaneMap& map, const PlannerConfig& config, const GraspTarget& target = {},
                                  const std::optional<Eigen::Vector2d>& standing = std::nullopt);
 

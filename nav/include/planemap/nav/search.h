@@ -161,11 +161,16 @@ class Search {
   // views_max walks are used.
   bool Next(const PlaneMap& map, const Pose2& estimate, const TargetDescription& target, std::string* reason);
   // Every camera frame while Walking(): drives the walk with path feedback, or waits for the
-  // turn to end and the robot to settle.
-  void Update(double time, const std::optional<Pose2>& estimate);
+  // turn to end and the robot to settle. `map`: the current map, for obstacles seen on the way
+  // (Mission::Update).
+  void Update(double time, const std::optional<Pose2>& estimate, const PlaneMap* map = nullptr);
   bool Walking() const;
   // How the last walk or turn ended (kReached: standing at the viewpoint, or turned).
   MissionStatus Status() const;
+  // The last walk stopped short for want of a way on (Mission::Blocked): its viewpoint, or the way
+  // there, turned out blocked by an obstacle seen on the way (Mission::Update). The view is given
+  // up; the robot looks from where it stands and the search goes on.
+  bool GaveUpView() const;
   const std::vector<Viewpoint>& Viewpoints() const;
   const SearchConfig& Config() const;
 
