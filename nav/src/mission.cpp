@@ -20,6 +20,7 @@ struct MissionState {
   Humanoid* robot = nullptr;
 
   PlaneMap map;  // a copy: re-targeting rebuilds the grid with the object moved
+  size_t planned_landmarks = 0, planned_objects = 0;  // the map's sizes at the last plan
   int object_index = -1;
   MapObject object;                                          // the target's latest estimate (world)
   Eigen::Vector2d planned_center = Eigen::Vector2d::Zero();  // where the target was at the last plan [m]
@@ -106,6 +107,8 @@ void Record(State& s, double time, const Pose2& estimate, int index, const Pose2
 
 // Grid, path and control points to the current pre-grasp pose from `from`.
 PlanResult MakePlan(State& s, const Pose2& from) {
+  s.planned_landmarks = s.map.landmarks.size();
+  s.planned_objects = s.map.objects.size();
   s.grid = BuildOccupancyGrid(s.map, s.planner, {s.object_index, s.pre_grasp}, from.Position());
   PlanResult result = PlanPath(s.grid, from, s.pre_grasp);
   if (!result.ok) return result;
@@ -260,16 +263,32 @@ bool ShouldApproach(State& s, const Pose2& estimate) {
   return false;
 }
 
-// At a stop: the grid from the current map, the target kept as planned (its faces seen since are
-// its own too). Obstacles seen only on the way (a bench's seat, edge-on from the start) enter it;
+// At a stop: the grid from the current map, the target kept as planned (its faces then and seen
+// since are its own). Obstacles seen only on the way (a bench's seat, edge-on from the start) enter it;
 // whether the rest of the path crosses one. The leg now walked is Issue's to check.
 bool PathBlockedByNewObstacles(State& s, const Pose2& estimate, const PlaneMap& map) {
   PlaneMap fresh = map;
   if (s.object_index >= 0) {
     if (s.object_index >= static_cast<int>(fresh.objects.size())) return false;  // keep the plan's grid
-    MapObject planned = s.map.objects[s.object_index];
-    planned.landmarks = fresh.objects[s.object_index].landmarks;
+    MapObject planned = s.map.objects[s.object_index];  // its faces then and now: a moved box left its old ones
+    for (int id : fresh.objects[s.object_index].landmarks) {
+      if (std::find(planned.landmarks.begin(), planned.landmarks.end(), id) == planned.landmarks.end())
+        planned.landmarks.push_back(id);
+    }
     fresh.objects[s.object_index] = std::move(planned);
+    // What appeared near the target since the plan may be the target, moved (moved_target_zone).
+    const Footprint target = FootprintOf(fresh.objects[s.object_index]);
+    const double zone = s.config.moved_target_zone;
+    for (size_t k = s.planned_landmarks; k < fresh.landmarks.size(); ++k) {
+      std::vector<Eigen::Vector3f>& points = fresh.landmarks[k].points;
+      const bool near = std::any_of(points.begin(), points.end(), [&](const Eigen::Vector3f& p) {
+        return target.Distance(p.head<2>().cast<double>()) <= zone;
+      });
+      if (near) points.clear();
+    }
+    for (size_t k = fresh.objects.size(); k-- > std::max<size_t>(s.planned_objects, s.object_index + 1);) {
+      if (target.Distance(fresh.objects[k].center.head<2>()) <= zone) fresh.objects.erase(fresh.objects.begin() + k);
+    }
   }
   OccupancyGrid grid = BuildOccupancyGrid(fresh, s.planner, {s.object_index, s.pre_grasp}, estimate.Position());
   if (grid.Empty()) return false;  // no floor in the map: keep the plan's grid

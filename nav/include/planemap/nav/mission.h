@@ -49,6 +49,10 @@ struct MissionConfig {
   double max_step = 0.30;                 // longest commanded walk in one feedback step [m]
   double max_turn_deg = 60.0;             // largest commanded turn in one feedback step [deg]
   int max_replans = 5;                    // more re-plans than this end the mission
+  // Surfaces and objects first mapped after the plan this close to the target's footprint may be
+  // the target itself, moved (tracking.object_match_distance): its estimate takes them, not the
+  // obstacles of the grid rebuilt at each stop (Update with a map) [m].
+  double moved_target_zone = 0.25;
   // Scenario 1 walks each leg blind: it stops rather than start one that, from the estimated pose,
   // keeps less slack than this to the nearest obstacle; the gait's error over one leg [m].
   double open_loop_margin = 0.02;
@@ -73,6 +77,7 @@ struct MissionConfig {
     v("max_step", max_step, Check::kPositive);
     v("max_turn_deg", max_turn_deg, Check::kPositive);
     v("max_replans", max_replans, Check::kNonNegative);
+    v("moved_target_zone", moved_target_zone, Check::kNonNegative);
     v("open_loop_margin", open_loop_margin, Check::kNonNegative);
   }
 };
