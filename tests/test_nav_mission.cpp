@@ -310,6 +310,36 @@ TEST(Mission, AnObstacleMappedOnTheWayIsWalkedAround) {
   }
 }
 
+// A surface first mapped after the plan right at the target (here at its pre-grasp pose) may be
+// the target itself, moved: within moved_target_zone it is the target's estimate's to take, not an
+// obstacle of the grid rebuilt on the way. With no zone the same surface leaves no way on.
+TEST(Mission, ASurfaceNewlyMappedAtTheTargetIsNoObstacleWithinTheMovedTargetZone) {
+  PlaneMap map = Room();
+  map.objects.pop_back();
+  for (const double zone : {MissionConfig{}.moved_target_zone, 0.0}) {
+    FakeHumanoid robot({0.0, 0.0, 0.0}, WalkError{}, 1);
+    MissionConfig config;
+    config.moved_target_zone = zone;
+    Mission mission(Scenario::kPathFeedback, config, PlannerConfig{}, GraspConfig{}, &robot);
+    ASSERT_TRUE(mission.Plan(map, 0, {0.0, 0.0, 0.0}).ok);
+    const Pose2 goal = mission.PreGraspTarget();
+    PlaneMap later = map;
+    later.landmarks.push_back(Rectangle(static_cast<int>(later.landmarks.size()), {goal.x, goal.y, 0.2}, kX, 0.05, kZ, 0.15));
+    for (int frame = 0; frame < 200 * kRate && !mission.Done(); ++frame) {
+      const double t = frame / kRate;
+      mission.Update(t, robot.TruePose(), &map.objects[0], t < 2.0 ? &map : &later);
+      robot.Advance(1.0 / kRate);
+    }
+    if (zone > 0.0) {
+      EXPECT_TRUE(mission.Status().Reached()) << mission.Status().reason;
+      EXPECT_EQ(mission.Replans(), 0);
+    } else {
+      EXPECT_FALSE(mission.Status().Reached());
+      EXPECT_TRUE(mission.Blocked()) << mission.Status().reason;
+    }
+  }
+}
+
 // A blind leg cannot correct the gait's error on the way: scenario 1 refuses one that would keep
 // less than open_loop_margin, and stops where the last accepted leg ended, that far clear.
 TEST(Mission, TheOpenLoopStopsBeforeALegWithoutMargin) {
