@@ -433,9 +433,9 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   if (!scene.task_object.empty()) {
     const sim::SceneObject& truth = (moved ? moved_scene : scene).object(scene.task_object);
     const nav::Footprint footprint = nav::FootprintOf(TrueObject(truth, Eigen::Vector3d::UnitX()));
-    for (const MapObject& o : run.map.objects) {
-      run.task_object_mapped = run.task_object_mapped || footprint.Distance(o.center.head<2>()) == 0.0;
-    }
+    run.task_object_mapped = std::any_of(run.map.objects.begin(), run.map.objects.end(), [&](const MapObject& o) {
+      return footprint.Distance(o.center.head<2>()) == 0.0;
+    });
   }
   if (!run.planned || !target_truth) return run;
 

@@ -61,8 +61,9 @@ std::string FailureClass(const ApproachRun& r) {
   if (!r.planned) {
     if (has("the arms can grasp")) return "box mapped, judged ungraspable";
     if (has("a plan reaches")) return "box mapped, no path to it";
-    if (!r.task_object_mapped) return "box never mapped";
+    if (r.task_object_mapped == false) return "box never mapped";  // by the scene's truth
     if (has("of another size")) return "box mapped at another size";
+    if (has("in the map")) return "box never mapped";
     if (has("looking again")) return "walk to a viewpoint failed";
     return "no plan";
   }

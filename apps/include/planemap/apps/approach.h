@@ -5,6 +5,7 @@
 // the mission (nav/) reads the smoothed base pose and the map's estimate of the box, and
 // commands the next walk. Ground truth (the robot's true pose, the scene's box) only scores it.
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -108,8 +109,8 @@ struct ApproachRun {
   std::vector<ApproachFrame> trace;      // every camera frame
   PlaneMap map;                          // the tracker's map at the end
   // Whether that map holds an object centred on the scene's task object's true footprint
-  // (telling "never mapped" from "mapped and rejected" apart); false without a task object.
-  bool task_object_mapped = false;
+  // (telling "never mapped" from "mapped and rejected" apart); none without a task object.
+  std::optional<bool> task_object_mapped;
 
   // Approached another object than the scene's task names.
   bool WrongObject() const { return planned && !intended.empty() && target != intended; }
