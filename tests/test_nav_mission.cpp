@@ -429,6 +429,38 @@ TEST(Mission, AMovedObjectIsRetargeted) {
   }
 }
 
+// The caller learns on the way that the target is not the one wanted (nav::RuledOut): the mission
+// ends at once, the robot stands where it was, and it may choose again (Blocked). A mission not
+// running takes no notice.
+TEST(Mission, GivingUpStopsTheRobotAndLetsTheCallerChooseAgain) {
+  const PlaneMap map = Room();
+  FakeHumanoid robot({0.0, 0.0, 0.0}, WalkError{}, 1);
+  Mission mission(Scenario::kObjectApproach, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);
+  mission.GiveUp("before any plan");
+  EXPECT_FALSE(mission.Done());
+  EXPECT_FALSE(mission.Blocked());
+  ASSERT_TRUE(mission.Plan(map, 0, {0.0, 0.0, 0.0}).ok);
+  double t = 0.0;
+  for (; t < 3.0; t += 1.0 / kRate) {
+    mission.Update(t, robot.TruePose(), &map.objects[0]);
+    robot.Advance(1.0 / kRate);
+  }
+  ASSERT_TRUE(robot.IsWalking());
+  ASSERT_FALSE(mission.Done());
+  const Eigen::Vector2d there = robot.TruePose().Position();
+  mission.GiveUp("object 0 proved not the target on the way: 4 x 32 x 41 cm");
+  EXPECT_TRUE(mission.Done());
+  EXPECT_TRUE(mission.Blocked());
+  EXPECT_FALSE(mission.Status().Reached());
+  EXPECT_EQ(mission.Status().reason, "object 0 proved not the target on the way: 4 x 32 x 41 cm");
+  EXPECT_FALSE(robot.IsWalking());
+  for (; t < 5.0; t += 1.0 / kRate) {
+    mission.Update(t, robot.TruePose(), &map.objects[0]);
+    robot.Advance(1.0 / kRate);
+  }
+  EXPECT_LT(100.0 * (robot.TruePose().Position() - there).norm(), 0.1) << "cm";
+}
+
 TEST(Mission, PlanFailuresComeBackWithReasons) {
   FakeHumanoid robot({}, {}, 1);
   Mission mission(Scenario::kObjectApproach, MissionConfig{}, PlannerConfig{}, GraspConfig{}, &robot);

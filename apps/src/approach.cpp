@@ -230,7 +230,8 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
   nav::Mission mission(static_cast<nav::Scenario>(options.scenario), config.mission, config.planner, config.grasp, &robot);
   nav::Search search(config.search, config.mission, config.planner, config.grasp, &robot);
   double view_start = 0.0;  // when the robot began standing at the start or at its last viewpoint [s]
-  int plans_given_up = 0;   // plans left for want of a way on (Mission::Blocked)
+  int plans_given_up = 0;   // plans left for want of a way on, or whose target proved another (Mission::Blocked)
+  double ruled_out_since = -1.0;  // since when the map rules the planned target out [s]; -1: it does not
   FrameModel last_model;     // the last frame processed, and its cloud and camera pose estimate
   Cloud::Ptr last_cloud;
   Pose3 last_T_world_camera = Pose3::Identity();
@@ -396,6 +397,21 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       const auto t4 = Clock::now();
       const MapObject* object = target >= 0 && target < static_cast<int>(mapper.map().objects.size()) ? &mapper.map().objects[target] : nullptr;
       mission.Update(t, estimate, object, &mapper.map());
+      // The target was chosen while some of its dimensions were only bounded (a face cut by the
+      // image or by what stands before it); seen on the way, it may prove another size or class
+      // (a bench's slab leg, first taken for a box seen edge-on). Once that has held for
+      // object_moved_time (one noisy frame is no measurement), the plan is given up and the robot
+      // chooses again.
+      if (object != nullptr && !mission.Done() && nav::RuledOut(*object, wanted)) {
+        if (ruled_out_since < 0.0) ruled_out_since = t;
+        if (t - ruled_out_since >= config.mission.object_moved_time) {
+          const std::string conflict = nav::SizeConflict(*object, wanted);
+          mission.GiveUp("object " + std::to_string(target) + " proved not the target on the way: " +
+                         (conflict.empty() ? "a " + object->label + " with its height measured" : conflict));
+        }
+      } else {
+        ruled_out_since = -1.0;
+      }
       run.control_ms.push_back(Ms(t4, Clock::now()));
       for (size_t i = before; i < mission.Records().size(); ++i) {
         const nav::Pose2 truth = robot.TruePose();
@@ -406,6 +422,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
       // another box (mission.max_replans such plans at most).
       if (mission.Done() && mission.Blocked() && plans_given_up < config.mission.max_replans) {
         ++plans_given_up;
+        ruled_out_since = -1.0;
         run.planned = false;
         target = -1;
         view_start = t;

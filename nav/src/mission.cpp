@@ -468,6 +468,13 @@ void Mission::Update(double time, const std::optional<Pose2>& estimate, const Ma
   if (time - *s.still_since >= s.config.settle_time && estimate) Act(s, time, *estimate, map);
 }
 
+void Mission::GiveUp(const std::string& reason) {
+  MissionState& s = *state_;
+  if (s.status.outcome != Outcome::kRunning) return;
+  Finish(s, Outcome::kStopped, reason);
+  s.blocked = true;
+}
+
 bool Mission::Done() const {
   return Status().outcome == Outcome::kReached || Status().outcome == Outcome::kStopped;
 }

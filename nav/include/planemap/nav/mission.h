@@ -119,9 +119,15 @@ class Mission {
   void Update(double time, const std::optional<Pose2>& estimate, const MapObject* object_estimate,
               const PlaneMap* map = nullptr);
 
+  // Ends a running mission at once (the robot stops at its next footstep) with `reason`, as one
+  // that may be chosen again (Blocked): the caller has learnt that its target is not the one
+  // wanted (measured at another size on the way, say). Nothing when not running.
+  void GiveUp(const std::string& reason);
+
   bool Done() const;
-  // Stopped for want of a way on from where the robot stands: a re-plan found no path (an obstacle
-  // seen on the way blocks the goal or every way there), or max_replans were used.
+  // Stopped so that the caller may choose again from where the robot stands: a re-plan found no
+  // path (an obstacle seen on the way blocks the goal or every way there), max_replans were used,
+  // or GiveUp().
   bool Blocked() const;
   MissionStatus Status() const;
   const std::vector<ControlPointRecord>& Records() const;
