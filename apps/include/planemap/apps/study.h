@@ -126,7 +126,7 @@ std::vector<StudyRun> StudyRuns(const StudyConfig& study);
 // ... in the same share; turning at each end cancels the sweep's fast pattern (seeds within a
 // segmenter), which a plain round robin (run i to shard i mod n + 1) keeps: with the default
 // study's 2 segmenters x 4 seeds, 8 shards would put every MSAC run (about 25 times an organized
-// one's cost) in the even shards, where the draft gives every shard 7 or 8 of the 60.
+// one's cost) in shards 5 to 8, where the draft gives every shard 7 or 8 of the 60.
 struct StudyShard {
   int k = 1;  // 1..n
   int n = 1;  // shards in all
