@@ -12,6 +12,7 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libboost-math-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
+  slurm-wlm munge   # a one-node Slurm cluster for scripts/test_slurm.sh (studies on a job array)
 )
 [ "${1:-}" = "--with-browser" ] && PACKAGES+=(chromium)
 

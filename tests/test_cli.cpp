@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
@@ -219,6 +220,30 @@ TEST(Cli, ErrorsAreOneLineNamingTheFileAndExitNonZero) {
   EXPECT_TRUE(FailsWith("approach --table --seeds 2147483647", "--seeds must be at most 100000"));  // was bad_alloc
   EXPECT_TRUE(FailsWith("nees --runs 1 --seed -5", "--seed: Value -5 not in range 0 to 2147483647"));
   EXPECT_TRUE(FailsWith("render --max-frames -1", "--max-frames: Value -1 not in range 1 to"));  // was: every frame
+}
+
+// `planemap study --shard K/N` and `--collect` (issue 59): a shard that is none, too many shards
+// for the study's runs, options that clash and a folder with nothing to collect are one line
+// each, before anything runs or is written.
+TEST(Cli, StudyShardAndCollectErrorsAreOneLineBeforeAnyRun) {
+  TempDir dir;
+  const std::string study = "study " + SourcePath("configs/studies/default.yaml") + " --out " + dir.File("out");
+  const std::pair<std::string, std::string> cases[] = {
+      {" --shard x", "planemap study: error: --shard 'x': expected K/N, shard K of N (e.g. --shard 2/8)"},
+      {" --shard 0/4", "planemap study: error: --shard '0/4': K counts the shards from 1 to N (4)"},
+      {" --shard 5/4", "planemap study: error: --shard '5/4': K counts the shards from 1 to N (4)"},
+      {" --shard 3/0", "planemap study: error: --shard '3/0': N, the number of shards, must be 1 or more"},
+      {" --shard 1/121", "default.yaml has 120 runs, too few for 121 shards"},
+      {" --collect --shard 1/2", "--collect merges every shard: give it no --shard"},
+      {" --collect", dir.File("out") + "/shards: no shards to collect: run them first (planemap study "},
+  };
+  for (const auto& [args, message] : cases) {
+    const CommandRun run = Planemap(study + args);
+    EXPECT_EQ(run.exit_code, 1) << args;
+    EXPECT_NE(run.output.find(message), std::string::npos) << args << ": " << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << args << ": " << run.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.File("out")));
 }
 
 // An error inside one of nees's parallel runs ended the process (std::terminate, no message);

@@ -1,10 +1,12 @@
 // planemap study: the sweep, its scores against the scene's truth, and resuming an interrupted
 // study into the same CSV as an uninterrupted one.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -17,7 +19,10 @@
 namespace planemap {
 namespace {
 
+using planemap::testing::SourcePath;
 using planemap::testing::TempDir;
+using planemap::testing::ThrowsWith;
+namespace fs = std::filesystem;
 
 std::string ReadFile(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
@@ -165,6 +170,253 @@ TEST_F(Study, RefusesToResumeIntoAFolderOfAStudyWithOtherSettings) {
   options.max_runs = 1;
   EXPECT_EQ(RunStudy(options), 0);
   EXPECT_EQ(ReadRows(dir.File("other/runs.csv")).size(), 2u);
+}
+
+// Every file of a folder (not its subfolders: a collected study's shards/), by name.
+std::map<std::string, std::string> Files(const std::string& folder) {
+  std::map<std::string, std::string> files;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    if (entry.is_regular_file()) files[entry.path().filename().string()] = ReadFile(entry.path().string());
+  }
+  return files;
+}
+
+std::vector<int> RunIndices(const std::string& csv) {
+  std::vector<int> indices;
+  for (const StudyRow& row : ReadRows(csv)) {
+    if (row.stage == "tracking") indices.push_back(row.run.index);
+  }
+  return indices;
+}
+
+TEST_F(Study, ThreeShardsCollectedAreTheStudyRunWholeByteForByte) {
+  TempDir dir;
+  const std::string study = dir.Write("study.yaml", kStudy);
+  const std::string out = dir.File("sharded");
+  // Each shard in its own folder, with the runs dealt to it; the shards run in any order, as a
+  // job array's tasks start.
+  std::vector<int> dealt;
+  for (int k : {3, 1, 2}) {
+    StudyOptions options = Options(study, out);
+    options.shard = std::to_string(k) + "/3";
+    options.threads = 1;
+    ASSERT_EQ(RunStudy(options), 0);
+    const std::vector<int> indices = RunIndices(out + "/shards/" + std::to_string(k) + "-of-3/runs.csv");
+    std::vector<int> expected;
+    for (const StudyRun& run : ShardRuns(StudyRuns(LoadStudy(study)), {k, 3})) expected.push_back(run.index);
+    EXPECT_EQ(indices, expected) << "shard " << k;
+    EXPECT_GE(indices.size(), 2u);
+    dealt.insert(dealt.end(), indices.begin(), indices.end());
+  }
+  std::sort(dealt.begin(), dealt.end());
+  EXPECT_EQ(dealt, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_TRUE(Files(out).empty());  // a shard writes into its own folder only
+  StudyOptions collect = Options(study, out);
+  collect.collect = true;
+  ASSERT_EQ(RunStudy(collect), 0);
+  // runs.csv, summary.csv, the six plots and study.yaml (so the folder resumes as a whole run's
+  // would): the same bytes as the study run whole.
+  const std::map<std::string, std::string> whole = Files(Whole("")), collected = Files(out);
+  EXPECT_EQ(whole.size(), 9u);
+  ASSERT_EQ(collected.size(), whole.size());
+  for (const auto& [name, text] : whole) {
+    ASSERT_TRUE(collected.count(name)) << name;
+    EXPECT_TRUE(collected.at(name) == text) << name << " differs";
+  }
+}
+
+// 4 runs of one frame, no back end: cheap shards to break.
+const char* const kTinyStudy = R"(name: tiny
+frames: 1
+seeds: 2
+backend: false
+sweep:
+  distance: [1.5, 2.0]
+)";
+
+std::string CollectError(const StudyOptions& options, std::string* listed = nullptr) {
+  ::testing::internal::CaptureStderr();
+  std::string message = "no error";
+  try {
+    RunStudy(options);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  if (listed) *listed = err;
+  return message;
+}
+
+TEST(StudyShards, CollectNamesAShardMissingOrUnfinishedWithItsRunsAndWritesNothing) {
+  TempDir dir;
+  const std::string study = dir.Write("tiny.yaml", kTinyStudy), out = dir.File("out");
+  StudyOptions shard = Options(study, out);
+  shard.shard = "1/2";  // runs 0 and 3: 1, 2, then 2, 1
+  ASSERT_EQ(RunStudy(shard), 0);
+  StudyOptions collect = Options(study, out);
+  collect.collect = true;
+  std::string listed;
+  std::string message = CollectError(collect, &listed);
+  EXPECT_NE(message.find(out + ": cannot collect: 1 of 2 shards not finished (2/2 not started), 2 of 4 runs missing"),
+            std::string::npos) << message;
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 0) << message;
+  EXPECT_NE(listed.find("shard 2/2 (" + out + "/shards/2-of-2): not started"), std::string::npos) << listed;
+  EXPECT_NE(listed.find("run 1 (distance 1.5 m, viewing angle 45 deg, noise x1, size x1, organized, seed 2)"),
+            std::string::npos) << listed;
+  EXPECT_NE(listed.find("run 2 (distance 2 m, viewing angle 45 deg, noise x1, size x1, organized, seed 1)"),
+            std::string::npos) << listed;
+  EXPECT_TRUE(Files(out).empty());  // no runs.csv, summary or plots of half a study
+
+  // Half-finished: one run of two in, and half a line an interruption cut.
+  shard.shard = "2/2";
+  shard.max_runs = 1;
+  ASSERT_EQ(RunStudy(shard), 0);
+  std::ofstream(out + "/shards/2-of-2/runs.csv", std::ios::app) << "fig2,2,2,45,1,1,organized,1,track";
+  message = CollectError(collect, &listed);
+  EXPECT_NE(message.find("1 of 2 shards not finished (2/2 has 1 of 2 runs), 1 of 4 runs missing"), std::string::npos) << message;
+  EXPECT_NE(listed.find("1 of its 2 runs finished; 1 run missing:\n    run 2 (distance 2 m"), std::string::npos) << listed;
+  EXPECT_EQ(listed.find("run 1 ("), std::string::npos) << listed;
+  EXPECT_TRUE(Files(out).empty());
+
+  // The shard resumed to its end: collected.
+  shard.max_runs = 0;
+  ASSERT_EQ(RunStudy(shard), 0);
+  ASSERT_EQ(RunStudy(collect), 0);
+  EXPECT_EQ(RunIndices(out + "/runs.csv"), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_TRUE(fs::exists(out + "/summary.csv"));
+}
+
+TEST(StudyShards, CollectRefusesAShardOfOtherSettingsOrAnotherSplit) {
+  TempDir dir;
+  const std::string study = dir.Write("tiny.yaml", kTinyStudy), out = dir.File("out");
+  for (const char* k : {"1/2", "2/2"}) {
+    StudyOptions shard = Options(study, out);
+    shard.shard = k;
+    ASSERT_EQ(RunStudy(shard), 0);
+  }
+  // Collected with a study file of other settings: the first shard is refused, by its folder.
+  std::string changed = kTinyStudy;
+  changed.replace(changed.find("frames: 1"), 9, "frames: 2");
+  StudyOptions other = Options(dir.Write("changed.yaml", changed), out);
+  other.collect = true;
+  EXPECT_NE(CollectError(other).find(out + "/shards/1-of-2: is a shard of a study with other settings"), std::string::npos);
+
+  StudyOptions collect = Options(study, out);
+  collect.collect = true;
+  // A shard of the same study split 3 ways beside the 2-way split: which to collect is unclear.
+  StudyOptions three = Options(study, out);
+  three.shard = "1/3";
+  ASSERT_EQ(RunStudy(three), 0);
+  EXPECT_NE(CollectError(collect).find(out + "/shards: holds shards of the study split two ways (into 2: 1-of-2, 2-of-2; "
+                                       "into 3: 1-of-3)"),
+            std::string::npos);
+  // ... or passed off as the 2-way split's first: its study.yaml says which it is.
+  fs::remove_all(out + "/shards/1-of-2");
+  fs::rename(out + "/shards/1-of-3", out + "/shards/1-of-2");
+  EXPECT_NE(CollectError(collect).find(out + "/shards/1-of-2: is a shard of another split of this study"), std::string::npos);
+  // A folder that is no shard's.
+  fs::create_directories(out + "/shards/logs");
+  EXPECT_NE(CollectError(collect).find(out + "/shards/logs: is no shard's folder (K-of-N)"), std::string::npos);
+  fs::remove_all(out + "/shards");
+  EXPECT_NE(CollectError(collect).find(out + "/shards: no shards to collect"), std::string::npos);
+  EXPECT_TRUE(Files(out).empty());
+}
+
+TEST(StudyShards, ShardTextOtherThanKOfNAndOptionsThatClashAreErrorsBeforeAnyRun) {
+  EXPECT_EQ(ParseStudyShard("3/8").k, 3);
+  EXPECT_EQ(ParseStudyShard("3/8").n, 8);
+  EXPECT_TRUE(ThrowsWith([] { ParseStudyShard("x"); }, {"--shard 'x': expected K/N"}));
+  EXPECT_TRUE(ThrowsWith([] { ParseStudyShard("2/"); }, {"expected K/N"}));
+  EXPECT_TRUE(ThrowsWith([] { ParseStudyShard("-1/4"); }, {"expected K/N"}));
+  EXPECT_TRUE(ThrowsWith([] { ParseStudyShard("0/4"); }, {"--shard '0/4': K counts the shards from 1 to N (4)"}));
+  EXPECT_TRUE(ThrowsWith([] { ParseStudyShard("5/4"); }, {"--shard '5/4': K counts the shards from 1 to N (4)"}));
+  EXPECT_TRUE(ThrowsWith([] { ParseStudyShard("3/0"); }, {"--shard '3/0': N, the number of shards, must be 1 or more"}));
+  EXPECT_TRUE(ThrowsWith([] { ParseStudyShard("99999999999/99999999999"); }, {"expected K/N"}));
+
+  TempDir dir;
+  const std::string study = dir.Write("tiny.yaml", kTinyStudy);
+  StudyOptions options = Options(study, dir.File("out"));
+  options.shard = "1/5";  // 4 runs
+  EXPECT_TRUE(ThrowsWith([&] { RunStudy(options); }, {"has 4 runs, too few for 5 shards"}));
+  options.report = dir.File("r.html");
+  options.shard = "1/2";
+  EXPECT_TRUE(ThrowsWith([&] { RunStudy(options); }, {"--report is the whole study's page: give it to --collect"}));
+  options = Options(study, dir.File("out"));
+  options.collect = true;
+  options.shard = "1/2";
+  EXPECT_TRUE(ThrowsWith([&] { RunStudy(options); }, {"--collect merges every shard: give it no --shard"}));
+  options.shard = "";
+  options.max_runs = 1;
+  EXPECT_TRUE(ThrowsWith([&] { RunStudy(options); }, {"--collect runs nothing"}));
+  EXPECT_FALSE(fs::exists(dir.File("out")));  // nothing ran, nothing was made
+}
+
+TEST(StudyShards, EveryRunGoesToOneShardAndEveryShardGetsAnEvenMixOfTheSweep) {
+  // The default study's sweep: 5 distances x 3 noise levels x 2 segmenters x 4 seeds, 120 runs;
+  // an MSAC run costs about 25 times an organized one.
+  StudyConfig config;
+  config.seeds = 4;
+  config.sweep.distance = {1.0, 1.5, 2.0, 2.5, 3.0};
+  config.sweep.noise = {0.5, 1.0, 2.0};
+  config.sweep.segmenter = {"organized", "msac"};
+  const std::vector<StudyRun> runs = StudyRuns(config);
+  ASSERT_EQ(runs.size(), 120u);
+  // The draft: 1 2 3 4, 4 3 2 1, 1 2 ...
+  EXPECT_EQ(StudyShardOf(0, 4), 1);
+  EXPECT_EQ(StudyShardOf(3, 4), 4);
+  EXPECT_EQ(StudyShardOf(4, 4), 4);
+  EXPECT_EQ(StudyShardOf(7, 4), 1);
+  EXPECT_EQ(StudyShardOf(8, 4), 1);
+  for (int n = 1; n <= 40; ++n) {
+    SCOPED_TRACE(std::to_string(n) + " shards");
+    std::vector<int> owner(runs.size(), 0);
+    for (int k = 1; k <= n; ++k) {
+      const std::vector<StudyRun> mine = ShardRuns(runs, {k, n});
+      EXPECT_GE(mine.size(), runs.size() / n);  // the same number of runs, give or take one
+      EXPECT_LE(mine.size(), (runs.size() + n - 1) / n);
+      for (const StudyRun& run : mine) ++owner[run.index];
+      EXPECT_EQ(StudyShardName({k, n}), std::to_string(k) + "-of-" + std::to_string(n));
+      if (n > 16) continue;  // shards of 7 runs and more:
+      // The slow MSAC runs spread evenly: each shard has its share of the 60, give or take two
+      // (dealt round robin, 8 shards would have 0 or 15).
+      const double msac = std::count_if(mine.begin(), mine.end(), [](const StudyRun& r) { return r.segmenter == "msac"; });
+      EXPECT_NEAR(msac, 60.0 / n, 2.0) << "shard " << k;
+      if (n == 8) {
+        EXPECT_TRUE(msac == 7 || msac == 8) << msac;
+      }
+      // One run of every block of n neighbours: every distance, whose 24 runs hold a whole block
+      // up to 12 shards.
+      for (double d : config.sweep.distance) {
+        if (n > 12) break;
+        EXPECT_TRUE(std::any_of(mine.begin(), mine.end(), [&](const StudyRun& r) { return r.distance == d; })) << k << " " << d;
+      }
+    }
+    EXPECT_EQ(std::count(owner.begin(), owner.end(), 1), static_cast<long>(runs.size()));  // each run once
+  }
+}
+
+TEST(StudyShards, ACollectedStudysReportIsTheWholeStudysReport) {
+  if (!fs::exists(SourcePath("web/node_modules/three/build/three.core.js"))) {
+    GTEST_SKIP() << "web/node_modules missing: run scripts/setup.sh";
+  }
+  TempDir dir;
+  const std::string study = dir.Write("tiny.yaml", kTinyStudy);
+  StudyOptions whole = Options(study, dir.File("whole"));
+  whole.report = dir.File("whole.html");
+  ASSERT_EQ(RunStudy(whole), 0);
+  for (const char* k : {"2/2", "1/2"}) {
+    StudyOptions shard = Options(study, dir.File("sharded"));
+    shard.shard = k;
+    ASSERT_EQ(RunStudy(shard), 0);
+  }
+  StudyOptions collect = Options(study, dir.File("sharded"));
+  collect.collect = true;
+  collect.report = dir.File("sharded.html");
+  ASSERT_EQ(RunStudy(collect), 0);
+  const std::string page = ReadFile(dir.File("whole.html"));
+  EXPECT_NE(page.find("planemap study tiny"), std::string::npos);
+  EXPECT_TRUE(ReadFile(dir.File("sharded.html")) == page);
+  EXPECT_EQ(Files(dir.File("sharded")), Files(dir.File("whole")));  // with run0_map.json
 }
 
 TEST(StudySweep, ViewingAngleAndObjectSizeChangeWhatIsRenderedAndScored) {

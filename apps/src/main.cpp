@@ -168,6 +168,12 @@ int main(int argc, char** argv) {
   study_cmd->add_flag("--restart", study.restart, "Discard the output folder's finished runs");
   study_cmd->add_option("--report", study.report,
                         "Write the study as a self-contained HTML page: summary, plots and the first run's map in 3-D");
+  study_cmd->add_option("--shard", study.shard,
+                        "Run only shard K of N (K/N, 1 <= K <= N; the runs dealt as in a draft: 1..N, N..1, ...) into "
+                        "OUT/shards/K-of-N, resumable; one task of a cluster's job array (scripts/slurm/)");
+  study_cmd->add_flag("--collect", study.collect,
+                      "Merge the finished shards in OUT/shards into runs.csv, summary.csv and plots (and --report), as "
+                      "the study run on one machine writes them; names a missing shard and the runs it lacks");
 
   planemap::EvalOptions eval;
   CLI::App* eval_cmd = app.add_subcommand(

@@ -1,17 +1,16 @@
 // planemap study: runs a study's sweep in parallel into a resumable CSV, then prints and writes
 // the summary table and plots.
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
-#include <sstream>
 
 #include <omp.h>
 
 #include "app_report.h"
 #include "parallel_runs.h"
+#include "study_folder.h"
 #include "planemap/apps/app_config.h"
 #include "planemap/apps/commands.h"
 #include "planemap/apps/study.h"
@@ -24,73 +23,6 @@ namespace fs = std::filesystem;
 
 namespace planemap {
 namespace {
-
-// What decides a study's rows: its settings and the text of every file it reads. A folder made with
-// other settings is not resumed into.
-std::string StudyIdentity(const StudyConfig& study) {
-  std::ostringstream id;
-  id << "# planemap study: the settings this folder's runs.csv was made with\n" << ConfigToYaml(study) << "\n";
-  for (const std::string& file : {study.config, study.scene, study.camera, study.patterns}) {
-    id << "---\n# " << file << "\n" << ReadText(ResolveConfigPath(file)) << "\n";
-  }
-  return id.str();
-}
-
-// A finished run as read back: its rows (and their lines) by stage, tracking first.
-struct FinishedRun {
-  std::array<std::string, 2> lines;
-  std::array<StudyRow, 2> rows;
-  int stages = 0;     // rows read
-  bool twice = false;  // a stage came twice: not a run this tool wrote
-};
-
-// The finished runs of an earlier, interrupted invocation, by run index. A line that is not a
-// whole row of this study (cut by the interruption, or of another sweep) is dropped, and so is a
-// run missing one of its stages: it runs again.
-std::map<int, FinishedRun> ReadFinishedRuns(const fs::path& csv, const std::vector<StudyRun>& runs, int stages, int* dropped) {
-  std::map<int, FinishedRun> finished;
-  *dropped = 0;
-  std::ifstream in(csv, std::ios::binary);
-  if (!in) return finished;
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::istringstream lines(text);
-  std::string line;
-  if (!std::getline(lines, line) || line != StudyCsvHeader()) {
-    ThrowInputError(csv.string(), 1, "not a planemap study CSV (its header differs); use another --out or --restart");
-  }
-  size_t consumed = line.size() + 1;
-  while (std::getline(lines, line)) {
-    consumed += line.size() + 1;
-    StudyRow row;
-    const bool whole = consumed <= text.size();  // the last line ends with a newline
-    if (!whole || !ParseStudyCsvLine(line, &row) || row.run.index < 0 || row.run.index >= static_cast<int>(runs.size())) {
-      ++*dropped;
-      continue;
-    }
-    const StudyRun& run = runs[row.run.index];
-    if (row.run.segmenter != run.segmenter || row.run.seed != run.seed || row.run.distance != run.distance ||
-        row.run.viewing_angle_deg != run.viewing_angle_deg || row.run.noise != run.noise ||
-        row.run.object_scale != run.object_scale) {
-      ++*dropped;
-      continue;
-    }
-    FinishedRun& f = finished[row.run.index];
-    const int slot = row.stage == "tracking" ? 0 : 1;
-    f.twice = f.twice || !f.lines[slot].empty();
-    f.lines[slot] = line;
-    f.rows[slot] = row;
-    ++f.stages;
-  }
-  for (auto it = finished.begin(); it != finished.end();) {
-    if (it->second.stages == stages && !it->second.twice) {
-      ++it;
-    } else {
-      *dropped += it->second.stages;
-      it = finished.erase(it);
-    }
-  }
-  return finished;
-}
 
 // --- plots --------------------------------------------------------------------------------------
 
@@ -153,57 +85,66 @@ std::vector<ReportPlot> WritePlots(const fs::path& out, const StudyConfig& study
   return written;
 }
 
-}  // namespace
+// --- running and writing ------------------------------------------------------------------------
 
-int RunStudy(const StudyOptions& options) {
-  const std::string study_file = ResolveConfigPath(options.study);
-  const StudyConfig study = LoadStudy(study_file);
-  const std::vector<StudyRun> runs = StudyRuns(study);
-  const int stages = study.backend ? 2 : 1;
-  if (options.max_runs < 0) throw InputError("--max-runs must be 0 (all) or more");
-
-  ReportAssets report_assets;
-  if (!options.report.empty()) report_assets = PrepareReport(options.report);  // fails before the runs
-  const fs::path out(options.out.empty() ? "out/study_" + study.name : options.out);
+// A folder for `identity`'s runs (the whole study's, or a shard's): created, or resumed when it
+// holds runs of the same settings; another study's is refused, saying what to do (`remedy`), or
+// with `restart` its runs are discarded.
+fs::path OpenRunFolder(const fs::path& folder, const std::string& identity, bool restart,
+                       const std::string& remedy = "use another --out, or --restart to discard them") {
   std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) ThrowInputError(out.string(), 0, "cannot create folder: " + ec.message());
-  const fs::path csv = out / "runs.csv", identity_file = out / "study.yaml";
-  const std::string identity = StudyIdentity(study);
-  if (options.restart) {
+  fs::create_directories(folder, ec);
+  if (ec) ThrowInputError(folder.string(), 0, "cannot create folder: " + ec.message());
+  const fs::path csv = folder / "runs.csv", identity_file = folder / "study.yaml";
+  if (restart) {
     fs::remove(csv, ec);
   } else if (fs::exists(csv) && fs::exists(identity_file) && ReadText(identity_file.string()) != identity) {
-    ThrowInputError(out.string(), 0,
-                    "holds the runs of a study with other settings (its study.yaml differs): use another --out, or --restart "
-                    "to discard them");
+    ThrowInputError(folder.string(), 0, "holds the runs of a study with other settings (its study.yaml differs): " + remedy);
   }
   WriteFileAtomically(identity_file, identity);
+  return csv;
+}
 
+// What a run of the tool left in a folder's runs.csv.
+struct Ran {
+  std::map<int, FinishedRun> finished;  // by run index
+  bool complete = false;                // every run asked for is in
+  bool interrupted = false;             // Ctrl-C
+};
+
+// Runs the runs of `shard` (1/1: the whole study) that `csv` lacks, in parallel, each appended as
+// it finishes; the runs an earlier invocation finished are kept. With every one in, `csv` is
+// rewritten in run order, the same whatever order the runs finished in. `what` names the shard
+// in what is printed.
+Ran RunMissing(const StudyConfig& study, const std::vector<StudyRun>& runs, const StudyShard& shard,
+               const fs::path& csv, const StudyOptions& options, const std::string& what) {
+  const int stages = study.backend ? 2 : 1;
+  const std::vector<StudyRun> mine = ShardRuns(runs, shard);
   int dropped = 0;
-  std::map<int, FinishedRun> finished = ReadFinishedRuns(csv, runs, stages, &dropped);
-  const size_t resumed = finished.size();
+  const std::map<int, FinishedRun> before = ReadFinishedRuns(csv, runs, stages, shard, &dropped);
+  const size_t resumed = before.size();
   {  // the file as it stands, without cut lines, so appended rows start on a line of their own
     std::string text = StudyCsvHeader() + "\n";
-    for (const auto& [index, run] : finished) {
+    for (const auto& [index, run] : before) {
       for (int k = 0; k < stages; ++k) text += run.lines[k] + "\n";
     }
     WriteFileAtomically(csv, text);
   }
   std::vector<StudyRun> pending;
-  for (const StudyRun& run : runs) {
-    if (!finished.count(run.index)) pending.push_back(run);
+  for (const StudyRun& run : mine) {
+    if (!before.count(run.index)) pending.push_back(run);
   }
   if (options.max_runs > 0 && pending.size() > static_cast<size_t>(options.max_runs)) pending.resize(options.max_runs);
 
   const int threads = options.threads > 0 ? options.threads : omp_get_num_procs();
-  std::fprintf(stderr, "planemap study %s: %zu runs (%zu cells x %d seeds), %zu finished before%s, %zu to run on %d threads\n",
-               study.name.c_str(), runs.size(), runs.size() / study.seeds, study.seeds, resumed,
+  std::fprintf(stderr, "planemap study %s%s: %zu runs (%zu cells x %d seeds)%s, %zu finished before%s, %zu to run on %d threads\n",
+               study.name.c_str(), what.c_str(), runs.size(), runs.size() / study.seeds, study.seeds,
+               mine.size() < runs.size() ? (", " + std::to_string(mine.size()) + " of them here").c_str() : "", resumed,
                dropped ? (", " + std::to_string(dropped) + " cut or foreign lines dropped").c_str() : "", pending.size(), threads);
-
   std::ofstream append(csv, std::ios::app | std::ios::binary);
   if (!append) ThrowInputError(csv.string(), 0, "cannot append");
   const ParallelRuns ran = RunInParallel(
-      pending.size(), threads, resumed, runs.size(), append,
+      pending.size(), threads, resumed, mine.size(), append,
       [&](size_t i) {
         std::string text;
         for (const StudyRow& row : RunStudyCell(study, pending[i])) text += StudyCsvLine(row) + "\n";
@@ -212,17 +153,35 @@ int RunStudy(const StudyOptions& options) {
       [&](size_t i) { return "run " + std::to_string(pending[i].index); });
   append.close();
   if (!append) ThrowInputError(csv.string(), 0, "write failed");
-  if (resumed + ran.done < runs.size()) {
-    std::printf("planemap study %s: %zu of %zu runs in %s; run the same command again to resume\n", study.name.c_str(),
-                resumed + ran.done, runs.size(), csv.string().c_str());
-    return ran.interrupted ? 130 : 0;
-  }
 
-  // Every run is in: the CSV in run order (the same whatever order the runs finished in), then
-  // the summary and plots from it.
+  Ran result;
+  result.interrupted = ran.interrupted;
+  if (resumed + ran.done < mine.size()) {
+    std::printf("planemap study %s%s: %zu of %zu runs in %s; run the same command again to resume\n", study.name.c_str(),
+                what.c_str(), resumed + ran.done, mine.size(), csv.string().c_str());
+    return result;
+  }
   int dropped_now = 0;
-  const std::map<int, FinishedRun> all = ReadFinishedRuns(csv, runs, stages, &dropped_now);
-  if (all.size() != runs.size()) ThrowInputError(csv.string(), 0, "lost rows while running: " + std::to_string(dropped_now));
+  result.finished = ReadFinishedRuns(csv, runs, stages, shard, &dropped_now);
+  if (result.finished.size() != mine.size()) {
+    ThrowInputError(csv.string(), 0, "lost rows while running: " + std::to_string(dropped_now));
+  }
+  std::string text = StudyCsvHeader() + "\n";
+  for (const auto& [index, run] : result.finished) {
+    for (int k = 0; k < stages; ++k) text += run.lines[k] + "\n";
+  }
+  WriteFileAtomically(csv, text);
+  result.complete = true;
+  return result;
+}
+
+// The study's outputs from all its runs, the same whether they ran in this folder or were
+// collected from shards: runs.csv in run order, the summary printed and in summary.csv, the
+// plots, and with `report_file` the HTML page.
+void WriteStudy(const fs::path& out, const StudyConfig& study, const std::vector<StudyRun>& runs,
+                const std::map<int, FinishedRun>& all, const std::string& report_file, const ReportAssets& report_assets) {
+  const int stages = study.backend ? 2 : 1;
+  const fs::path csv = out / "runs.csv";
   std::string text = StudyCsvHeader() + "\n";
   std::vector<StudyRow> rows;
   for (const auto& [index, run] : all) {
@@ -240,28 +199,79 @@ int RunStudy(const StudyOptions& options) {
   std::printf("  wrote %s, %s", csv.string().c_str(), (out / "summary.csv").string().c_str());
   for (const ReportPlot& p : plots) std::printf(", %s", p.title.c_str());
   std::printf("\n");
-  if (!options.report.empty()) {
-    // The page: the summary table, the plots, and in 3-D what the first run saw (run again: a
-    // run is deterministic, and its map is not kept in the CSV).
-    StudyRunMap seen;
-    RunStudyCell(study, runs.front(), &seen);
-    ReportData report;
-    report.title = "planemap study " + study.name;
-    report.summary.push_back(Printf("%zu runs of %s, object '%s', %d frames per run; the 3-D view is run 0 (distance %g m, "
-                                    "viewing angle %g deg, noise x%g, size x%g, %s, seed %d)",
-                                    runs.size(), study.scene.c_str(), study.object.c_str(), study.frames, runs[0].distance,
-                                    runs[0].viewing_angle_deg, runs[0].noise, runs[0].object_scale,
-                                    runs[0].segmenter.c_str(), runs[0].seed));
-    for (const std::string& line : StudySummaryLines(rows)) report.summary.push_back(line);
-    const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));
-    AddMapToReport(seen.map, config.frontend.graph, &report);
-    report.trajectories = {{"tracked camera (run 0)", "#ff8c00", seen.tracked}, {"true camera (run 0)", "#1f5fbf", seen.truth}};
-    report.plots = plots;
-    WriteHtmlReport(options.report, report, report_assets);
-    const fs::path map_file = out / "run0_map.json";
-    std::ofstream(map_file) << PlaneMapJson(seen.map) << "\n";
-    std::printf("  wrote %s, %s (the map it shows)\n", options.report.c_str(), map_file.string().c_str());
+  if (report_file.empty()) return;
+  // The page: the summary table, the plots, and in 3-D what the first run saw (run again: a run
+  // is deterministic, and its map is not kept in the CSV).
+  StudyRunMap seen;
+  RunStudyCell(study, runs.front(), &seen);
+  ReportData report;
+  report.title = "planemap study " + study.name;
+  report.summary.push_back(Printf("%zu runs of %s, object '%s', %d frames per run; the 3-D view is run 0 (distance %g m, "
+                                  "viewing angle %g deg, noise x%g, size x%g, %s, seed %d)",
+                                  runs.size(), study.scene.c_str(), study.object.c_str(), study.frames, runs[0].distance,
+                                  runs[0].viewing_angle_deg, runs[0].noise, runs[0].object_scale, runs[0].segmenter.c_str(),
+                                  runs[0].seed));
+  for (const std::string& line : StudySummaryLines(rows)) report.summary.push_back(line);
+  const AppConfig config = LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));
+  AddMapToReport(seen.map, config.frontend.graph, &report);
+  report.trajectories = {{"tracked camera (run 0)", "#ff8c00", seen.tracked}, {"true camera (run 0)", "#1f5fbf", seen.truth}};
+  report.plots = plots;
+  WriteHtmlReport(report_file, report, report_assets);
+  const fs::path map_file = out / "run0_map.json";
+  std::ofstream(map_file) << PlaneMapJson(seen.map) << "\n";
+  std::printf("  wrote %s, %s (the map it shows)\n", report_file.c_str(), map_file.string().c_str());
+}
+
+// The options that do not go together, before anything is read or run.
+void CheckStudyOptions(const StudyOptions& options) {
+  if (options.max_runs < 0) throw InputError("--max-runs must be 0 (all) or more");
+  if (options.collect && !options.shard.empty()) throw InputError("--collect merges every shard: give it no --shard");
+  if (options.collect && (options.restart || options.max_runs > 0)) {
+    throw InputError("--collect runs nothing: give it no --restart or --max-runs (give those to a --shard)");
   }
+  if (!options.shard.empty() && !options.report.empty()) {
+    throw InputError("--report is the whole study's page: give it to --collect, not to a --shard");
+  }
+}
+
+}  // namespace
+
+int RunStudy(const StudyOptions& options) {
+  CheckStudyOptions(options);
+  const StudyShard shard = options.shard.empty() ? StudyShard{} : ParseStudyShard(options.shard);
+  const std::string study_file = ResolveConfigPath(options.study);
+  const StudyConfig study = LoadStudy(study_file);
+  const std::vector<StudyRun> runs = StudyRuns(study);
+  if (static_cast<size_t>(shard.n) > runs.size()) {
+    throw InputError("--shard " + options.shard + ": " + study_file + " has " + std::to_string(runs.size()) +
+                     " runs, too few for " + std::to_string(shard.n) + " shards");
+  }
+  ReportAssets report_assets;
+  if (!options.report.empty()) report_assets = PrepareReport(options.report);  // fails before the runs
+  const fs::path out(options.out.empty() ? "out/study_" + study.name : options.out);
+
+  if (options.collect) {
+    // The shards' runs, all there and of this study, into the folder as a whole run leaves it.
+    const std::map<int, FinishedRun> all = CollectShards(out, options.study, study, runs, study.backend ? 2 : 1);
+    OpenRunFolder(out, StudyIdentity(study), /*restart=*/false, "remove its runs.csv to collect the shards there");
+    WriteStudy(out, study, runs, all, options.report, report_assets);
+    return 0;
+  }
+  if (!options.shard.empty()) {
+    const fs::path folder = out / "shards" / StudyShardName(shard);
+    const std::string what = ", shard " + options.shard;
+    const Ran ran = RunMissing(study, runs, shard, OpenRunFolder(folder, ShardIdentity(study, shard), options.restart),
+                               options, what);
+    if (!ran.complete) return ran.interrupted ? 130 : 0;
+    std::printf("planemap study %s%s: its %zu run%s in %s; once every shard's are in: planemap study %s --collect --out %s\n",
+                study.name.c_str(), what.c_str(), ran.finished.size(), ran.finished.size() == 1 ? "" : "s",
+                (folder / "runs.csv").string().c_str(),
+                options.study.c_str(), out.string().c_str());
+    return 0;
+  }
+  const Ran ran = RunMissing(study, runs, shard, OpenRunFolder(out, StudyIdentity(study), options.restart), options, "");
+  if (!ran.complete) return ran.interrupted ? 130 : 0;
+  WriteStudy(out, study, runs, ran.finished, options.report, report_assets);
   return 0;
 }
 

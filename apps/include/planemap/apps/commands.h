@@ -79,6 +79,8 @@ struct StudyOptions {
   int max_runs = 0;      // stop after this many new runs (0: all); run again to go on
   bool restart = false;  // discard the folder's finished runs
   std::string report;    // the study as an HTML page (summary, plots, the first run's map); empty: none
+  std::string shard;     // "K/N": run only shard K of N (apps/study.h), into out/shards/K-of-N; empty: all
+  bool collect = false;  // merge the finished shards in out/shards into the whole study's files
 };
 
 struct ApproachCommandOptions {

@@ -119,6 +119,32 @@ StudyConfig LoadStudy(const std::string& file);
 // Every run of the study, in index order.
 std::vector<StudyRun> StudyRuns(const StudyConfig& study);
 
+// One machine's part of a study split across a cluster (a Slurm job array): shard k of n. The
+// runs are dealt in index order as players pick in a draft: the first n one each to shards 1 .. n,
+// the next n back from shard n to 1, and so on. Every shard gets the same number of runs (give or
+// take one) and one of every n neighbours in the sweep's order, so each distance, noise level,
+// ... in the same share; turning at each end cancels the sweep's fast pattern (seeds within a
+// segmenter), which a plain round robin (run i to shard i mod n + 1) keeps: with the default
+// study's 2 segmenters x 4 seeds, 8 shards would put every MSAC run (about 25 times an organized
+// one's cost) in shards 5 to 8, where the draft gives every shard 7 or 8 of the 60.
+struct StudyShard {
+  int k = 1;  // 1..n
+  int n = 1;  // shards in all
+};
+
+// Parses --shard's "K/N"; an InputError says what is wrong with any other text ("x", "0/4",
+// "5/4", "3/0").
+StudyShard ParseStudyShard(const std::string& text);
+
+// The shard (1..n) that run `index` (0-based) is dealt to, of n.
+int StudyShardOf(int index, int n);
+
+// The shard's runs among all of a study's, in index order.
+std::vector<StudyRun> ShardRuns(const std::vector<StudyRun>& runs, const StudyShard& shard);
+
+// The shard's folder name inside the study folder's shards/: "K-of-N".
+std::string StudyShardName(const StudyShard& shard);
+
 // The scene a run renders: the study's scene with its object's dimensions scaled by
 // `object_scale` about its centre's footprint, its bottom kept where it was (on the floor).
 sim::Scene StudyScene(const StudyConfig& study, double object_scale);
