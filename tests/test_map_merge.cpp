@@ -43,47 +43,9 @@ double MergedLength(const PlaneMap& map, int a, int b) {
   return k < 0 ? -1.0 : map.edges[k].length;
 }
 
-// The mapped faces place an object's centre (FaceAnchoredCenter): the synthetic room's box
-// (30 x 40 x 30 cm, centre (1.5, 0.3, 0.15) m) with its faces at x = 1.35, y = 0.1 and its top
-// at z = 0.3, and a centre from the views' cuboids 7 cm off along x.
-TEST(MapMerge, TheFacesPlaceAnObjectsCentre) {
-  const PlaneMap room = SyntheticRoom();
-  MapObject box;
-  box.landmarks = {kBoxX, kBoxY, kBoxTop, kWallX};  // the far wall: 1.35 m from the centre, no face of it
-  box.dimensions = {0.30, 0.40, 0.30};
-  box.dimension_complete = {true, true, true};
-  const Eigen::Vector3d truth(1.5, 0.3, 0.15);
-  box.center = truth + Eigen::Vector3d(0.07, -0.03, 0.02);
-  Eigen::Vector3d anchored = FaceAnchoredCenter(box, room.landmarks, 10.0);
-  EXPECT_LT(100 * (anchored - truth).norm(), 0.01) << "cm";
-  // Turned 5 deg, the axes still take the faces (within 10 deg); the centre moves by the turn's
-  // share of the offset only.
-  box.axes = Eigen::AngleAxisd(5.0 / kRadToDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  anchored = FaceAnchoredCenter(box, room.landmarks, 10.0);
-  EXPECT_LT(100 * (anchored - truth).norm(), 1.0) << "cm";
-  // ... but not beyond the angle: the centre stays where the views put it, but for the top.
-  anchored = FaceAnchoredCenter(box, room.landmarks, 3.0);
-  EXPECT_LT(100 * (anchored.head<2>() - box.center.head<2>()).norm(), 0.01) << "cm";
-  EXPECT_NEAR(100 * anchored.z(), 15.0, 0.01);
-  // A dimension only bounded from below places nothing along its axis.
-  box.axes.setIdentity();
-  box.dimension_complete = {false, true, true};
-  anchored = FaceAnchoredCenter(box, room.landmarks, 10.0);
-  EXPECT_NEAR(100 * anchored.x(), 100 * box.center.x(), 0.01);
-  EXPECT_NEAR(100 * anchored.y(), 30.0, 0.01);
-  // Two opposite faces place it at their middle, whatever the dimension says.
-  PlaneMap more = room;
-  more.landmarks.push_back(more.landmarks[kBoxX]);
-  more.landmarks.back().plane = Plane{{1.0, 0.0, 0.0}, -1.66};  // the back face, at x = 1.66
-  box.landmarks.push_back(static_cast<int>(more.landmarks.size()) - 1);
-  box.dimension_complete = {true, true, true};
-  anchored = FaceAnchoredCenter(box, more.landmarks, 10.0);
-  EXPECT_NEAR(100 * anchored.x(), 150.5, 0.01);
-}
-
 TEST(MapMerge, RebuildsTheBoxFromTheGraph) {
   PlaneMap map = SyntheticRoom();
-  RebuildObjects(Objects(), 0.25, 10.0, &map);
+  RebuildObjects(Objects(), 0.25, &map);
   ASSERT_EQ(map.objects.size(), 1u);
   const MapObject& box = map.objects[0];
   EXPECT_EQ(box.label, "box");
@@ -250,7 +212,7 @@ TEST(MapMerge, ABoxMappedTwiceIsFoldedNeighboursAreNot) {
 
 TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
   PlaneMap map = SyntheticRoom();
-  RebuildObjects(Objects(), 0.25, 10.0, &map);
+  RebuildObjects(Objects(), 0.25, &map);
   map.objects[0].label_votes = {{"box", 12}, {"locker", 1}};
   map.objects[0].complete_count = {3, 2, 1};
   map.objects[0].complete_sum = Eigen::Vector3d(0.9, 0.8, 0.3);
@@ -288,7 +250,7 @@ TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
 // an id past 2^32 read as 0, which named another plane).
 TEST(MapJson, ImpossibleValuesAreErrorsNamingTheField) {
   PlaneMap map = SyntheticRoom();
-  RebuildObjects(Objects(), 0.25, 10.0, &map);
+  RebuildObjects(Objects(), 0.25, &map);
   const nlohmann::json good = nlohmann::json::parse(PlaneMapJson(map));
   testing::TempDir dir;
   const auto read_with = [&](const std::function<void(nlohmann::json&)>& change) {

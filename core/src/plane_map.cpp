@@ -62,40 +62,6 @@ void TransformMap(const Pose3& T, PlaneMap* map) {
   for (Keyframe& k : map->keyframes) k.T_world_camera = T * k.T_world_camera;
 }
 
-Eigen::Vector3d FaceAnchoredCenter(const MapObject& object, const std::vector<PlaneLandmark>& landmarks,
-                                   double max_angle_deg) {
-  const double min_cos = std::cos(max_angle_deg * M_PI / 180.0);
-  Eigen::Vector3d center = object.center;
-  for (int k = 0; k < 3; ++k) {
-    const double size = object.dimensions[k];
-    if (!object.dimension_complete[k] || !(size > 0.0)) continue;
-    const Eigen::Vector3d axis = object.axes.col(k);
-    // Per side of the centre, the most observed face: its position along the axis from the centre.
-    double t[2] = {0.0, 0.0};
-    int seen[2] = {-1, -1};
-    for (int f : object.landmarks) {
-      if (f < 0 || f >= static_cast<int>(landmarks.size())) continue;
-      const PlaneLandmark& l = landmarks[f];
-      const double c = l.plane.normal.dot(axis);
-      if (std::abs(c) < min_cos) continue;
-      const double along = -l.plane.SignedDistance(object.center) / c;  // center + along * axis lies on it
-      if (std::abs(along) > size) continue;  // no face of this object
-      const int side = along >= 0.0 ? 1 : 0;
-      if (l.observations > seen[side]) seen[side] = l.observations, t[side] = along;
-    }
-    double shift = 0.0;
-    if (seen[0] >= 0 && seen[1] >= 0) {
-      shift = 0.5 * (t[0] + t[1]);
-    } else if (seen[1] >= 0) {
-      shift = t[1] - 0.5 * size;
-    } else if (seen[0] >= 0) {
-      shift = t[0] + 0.5 * size;
-    }
-    center += shift * axis;
-  }
-  return center;
-}
-
 double CuboidOverlap(const Eigen::Vector3d& center_a, const Eigen::Matrix3d& axes_a, const Eigen::Vector3d& dimensions_a,
                      const Eigen::Vector3d& center_b, const Eigen::Matrix3d& axes_b, const Eigen::Vector3d& dimensions_b,
                      double min_dimension) {

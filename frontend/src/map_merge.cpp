@@ -56,8 +56,8 @@ void Absorb(const MapObject& from, MapObject* into) {
 
 // Folds `from` into `into`, one physical object seen as two: evidence added (Absorb), faces
 // united, and the estimates made again from the sums. A dimension is the mean of the complete
-// views, else the longer of the two lower bounds; the centre is placed by the faces (FaceAnchoredCenter).
-void Fold(const MapObject& from, const PlaneMap& map, double face_max_angle_deg, MapObject* into) {
+// views, else the longer of the two lower bounds.
+void Fold(const MapObject& from, const PlaneMap& map, MapObject* into) {
   Absorb(from, into);
   std::set<int> faces(into->landmarks.begin(), into->landmarks.end());
   faces.insert(from.landmarks.begin(), from.landmarks.end());
@@ -73,7 +73,6 @@ void Fold(const MapObject& from, const PlaneMap& map, double face_max_angle_deg,
   }
   into->center = into->center_count > 0 ? Eigen::Vector3d(into->center_sum / into->center_count)
                                         : Eigen::Vector3d(into->partial_center_sum / std::max(1, into->partial_center_count));
-  into->center = FaceAnchoredCenter(*into, map.landmarks, face_max_angle_deg);
   if (!into->label_votes.empty()) into->label = Winner(into->label_votes);
   if (!into->grasp_votes.empty()) {
     into->grasp_landmark = Winner(into->grasp_votes);
@@ -231,14 +230,14 @@ int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map) {
     }
     ++folded;
     MapObject& into = *same;
-    Fold(o, *map, config.object_face_max_angle_deg, &into);
+    Fold(o, *map, &into);
     into.uncertainty = MapObject::Uncertainty{};  // of neither object any more
   }
   map->objects = std::move(kept);
   return folded;
 }
 
-void RebuildObjects(const ObjectModel& model, double object_match_distance, double face_max_angle_deg, PlaneMap* map) {
+void RebuildObjects(const ObjectModel& model, double object_match_distance, PlaneMap* map) {
   Cloud cloud;
   FrameModel graph = MapGraph(*map, model.graph, &cloud);
   AggregateObjects(cloud, model.graph, &graph);
@@ -295,7 +294,6 @@ void RebuildObjects(const ObjectModel& model, double object_match_distance, doub
       }
     }
     mo.center = mo.center_count > 0 ? Eigen::Vector3d(mo.center_sum / mo.center_count) : fo.center;
-    mo.center = FaceAnchoredCenter(mo, map->landmarks, face_max_angle_deg);
     for (int f : mo.landmarks) {
       if (std::abs(fo.axes.col(0).dot(map->landmarks[f].plane.normal)) > 0.99) mo.x_landmark = f;
     }
@@ -324,7 +322,7 @@ void RebuildObjects(const ObjectModel& model, double object_match_distance, doub
       rebuilt.back().id = static_cast<int>(rebuilt.size()) - 1;
       continue;
     }
-    Fold(old, *map, face_max_angle_deg, &*same);
+    Fold(old, *map, &*same);
   }
   map->objects = std::move(rebuilt);
 }
@@ -443,7 +441,7 @@ MapMergeResult MergeMaps(const PlaneMap& target, const PlaneMap& source, const P
   }
   merged.keyframes.insert(merged.keyframes.end(), moved.keyframes.begin(), moved.keyframes.end());
   result.fused = FuseDuplicateLandmarks(config, &merged);
-  RebuildObjects(model, config.object_match_distance, config.object_face_max_angle_deg, &merged);
+  RebuildObjects(model, config.object_match_distance, &merged);
   result.ok = true;
   return result;
 }

@@ -822,8 +822,7 @@ int Tracker::SeenElsewhere(const MapObject& mo, const Eigen::Matrix3d& frame_axe
   if (mo.center_count < config_.object_moved_views) return -1;  // too few whole views to judge by
   if (std::abs(QuarterTurn(mo.axes, frame_axes)) > config_.object_moved_angle_deg * kDegToRad) return 1;
   if (!whole) return -1;  // a partial view's centre is not where the object's is
-  // Against the mean of the whole views' centres, like with like (mo.center is placed by the faces).
-  return (center - mo.center_sum / mo.center_count).norm() > config_.object_moved_distance ? 1 : 0;
+  return (center - mo.center).norm() > config_.object_moved_distance ? 1 : 0;
 }
 
 void Tracker::RestartMovedObject(const Eigen::Matrix3d& frame_axes, MapObject* mo) const {
@@ -969,8 +968,6 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
       const double turn = QuarterTurn(mo.axes, frame_axes);
       mo.axes = Eigen::AngleAxisd(turn / mo.partial_center_count, Eigen::Vector3d::UnitZ()) * mo.axes;
     }
-    // The faces, fitted to every view's inliers, place the centre where their dimensions are measured.
-    mo.center = FaceAnchoredCenter(mo, map_.landmarks, config_.object_face_max_angle_deg);
     // Grasp axis: the normal of the landmark chosen as grasp side most often.
     if (fo.grasp_side >= 0 && landmark_of_plane[fo.grasp_side] >= 0) {
       mo.grasp_landmark = Vote(&mo.grasp_votes, landmark_of_plane[fo.grasp_side]);

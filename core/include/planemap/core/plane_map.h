@@ -99,16 +99,6 @@ double CuboidOverlap(const Eigen::Vector3d& center_a, const Eigen::Matrix3d& axe
                      const Eigen::Vector3d& center_b, const Eigen::Matrix3d& axes_b, const Eigen::Vector3d& dimensions_b,
                      double min_dimension = 0.01);
 
-// The object's centre placed by its mapped faces: along each axis whose dimension is measured
-// whole, a face among its landmarks (normal within max_angle_deg of the axis, lying within one
-// dimension of `object.center`) fixes the centre half that dimension behind it; two opposite faces
-// fix it at their middle. The faces are fitted to every inlier of every view, while a view's centre
-// (eq. 7) rests on that view's cuboid, whose hidden sides are guessed: in a generated room a box's
-// front face was mapped to 1 cm and its depth to 1.6 cm, and the mean of its views' centres lay
-// 7 cm behind where face and depth put it. Along other axes the centre stays `object.center`.
-Eigen::Vector3d FaceAnchoredCenter(const MapObject& object, const std::vector<PlaneLandmark>& landmarks,
-                                   double max_angle_deg);
-
 struct Keyframe {
   int frame = 0;
   double stamp = 0.0;

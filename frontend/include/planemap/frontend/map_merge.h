@@ -49,9 +49,6 @@ struct MapMergeConfig {
   // Two map objects are one (fused) when their cuboids share this much of the smaller one
   // (CuboidOverlap): the same box mapped twice, from views that did not match it to the first.
   double fuse_object_overlap = 0.5;     // [0, 1]
-  // A merged or fused object's centre is placed by its faces (FaceAnchoredCenter): those whose
-  // normal is within this of one of its axes (as tracking.object_face_max_angle_deg).
-  double object_face_max_angle_deg = 10.0;  // [deg]
 
   template <class V>
   void VisitFields(V&& v) {
@@ -71,7 +68,6 @@ struct MapMergeConfig {
     v("landmark_voxel", landmark_voxel, Check::kPositive);
     v("object_match_distance", object_match_distance, Check::kPositive);
     v("fuse_object_overlap", fuse_object_overlap, Check::kPositive);
-    v("object_face_max_angle_deg", object_face_max_angle_deg, Check::kPositive);
   }
 };
 
@@ -114,9 +110,8 @@ int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map);
 // edges, aggregated angle by angle, paper Fig. 4) and re-classifies them by the patterns. Each
 // rebuilt object keeps the observations of the old objects it matches (see
 // MapMergeConfig::object_match_distance): a dimension seen whole is their mean, else the longest
-// edge bounds it, and the centre is placed by the faces (FaceAnchoredCenter, faces within
-// face_max_angle_deg of an axis); old objects the graph no longer forms are kept as they were.
-void RebuildObjects(const ObjectModel& model, double object_match_distance, double face_max_angle_deg, PlaneMap* map);
+// edge bounds it; old objects the graph no longer forms are kept as they were.
+void RebuildObjects(const ObjectModel& model, double object_match_distance, PlaneMap* map);
 
 // The trihedral corners of the map's graph (3-cycles of landmarks joined by map edges, as
 // RebuildObjects finds them), world [m]: for display.

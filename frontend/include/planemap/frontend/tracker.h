@@ -160,9 +160,6 @@ struct TrackingConfig {
   double keyframe_angle_deg = 15.0;      // ... or turn [deg]
   double object_match_distance = 0.25;   // a frame object joins a map object this close [m] ...
   double object_match_overlap = 0.5;     // ... or whose cuboid holds this share of the smaller one [0, 1]
-  // A map object's centre is placed by its faces (FaceAnchoredCenter): those whose normal is
-  // within this of one of its axes.
-  double object_face_max_angle_deg = 10.0;  // [deg]
   // A view that measured an object's height counts as this many that only bounded it from below
   // (a box stared at from the side, its top unseen, collects "locker" votes: it must not outvote
   // the views that saw its top) [-]
@@ -237,7 +234,6 @@ struct TrackingConfig {
     v("keyframe_angle_deg", keyframe_angle_deg, Check::kPositive);
     v("object_match_distance", object_match_distance, Check::kPositive);
     v("object_match_overlap", object_match_overlap, Check::kPositive);
-    v("object_face_max_angle_deg", object_face_max_angle_deg, Check::kPositive);
     v("decided_vote_weight", decided_vote_weight, Check::kPositive);
     v("object_moved_distance", object_moved_distance, Check::kPositive);
     v("object_moved_angle_deg", object_moved_angle_deg, Check::kPositive);
