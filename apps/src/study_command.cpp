@@ -87,6 +87,15 @@ std::vector<ReportPlot> WritePlots(const fs::path& out, const StudyConfig& study
 
 // --- running and writing ------------------------------------------------------------------------
 
+// A runs.csv holding `finished`'s lines, in run order.
+std::string RunsCsvText(const std::map<int, FinishedRun>& finished, int stages) {
+  std::string text = StudyCsvHeader() + "\n";
+  for (const auto& [index, run] : finished) {
+    for (int k = 0; k < stages; ++k) text += run.lines[k] + "\n";
+  }
+  return text;
+}
+
 // A folder for `identity`'s runs (the whole study's, or a shard's): created, or resumed when it
 // holds runs of the same settings; another study's is refused, saying what to do (`remedy`), or
 // with `restart` its runs are discarded.
@@ -123,13 +132,8 @@ Ran RunMissing(const StudyConfig& study, const std::vector<StudyRun>& runs, cons
   int dropped = 0;
   const std::map<int, FinishedRun> before = ReadFinishedRuns(csv, runs, stages, shard, &dropped);
   const size_t resumed = before.size();
-  {  // the file as it stands, without cut lines, so appended rows start on a line of their own
-    std::string text = StudyCsvHeader() + "\n";
-    for (const auto& [index, run] : before) {
-      for (int k = 0; k < stages; ++k) text += run.lines[k] + "\n";
-    }
-    WriteFileAtomically(csv, text);
-  }
+  // The file as it stands, without cut lines, so appended rows start on a line of their own.
+  WriteFileAtomically(csv, RunsCsvText(before, stages));
   std::vector<StudyRun> pending;
   for (const StudyRun& run : mine) {
     if (!before.count(run.index)) pending.push_back(run);
@@ -166,11 +170,7 @@ Ran RunMissing(const StudyConfig& study, const std::vector<StudyRun>& runs, cons
   if (result.finished.size() != mine.size()) {
     ThrowInputError(csv.string(), 0, "lost rows while running: " + std::to_string(dropped_now));
   }
-  std::string text = StudyCsvHeader() + "\n";
-  for (const auto& [index, run] : result.finished) {
-    for (int k = 0; k < stages; ++k) text += run.lines[k] + "\n";
-  }
-  WriteFileAtomically(csv, text);
+  WriteFileAtomically(csv, RunsCsvText(result.finished, stages));
   result.complete = true;
   return result;
 }
@@ -182,15 +182,11 @@ void WriteStudy(const fs::path& out, const StudyConfig& study, const std::vector
                 const std::map<int, FinishedRun>& all, const std::string& report_file, const ReportAssets& report_assets) {
   const int stages = study.backend ? 2 : 1;
   const fs::path csv = out / "runs.csv";
-  std::string text = StudyCsvHeader() + "\n";
   std::vector<StudyRow> rows;
   for (const auto& [index, run] : all) {
-    for (int k = 0; k < stages; ++k) {
-      text += run.lines[k] + "\n";
-      rows.push_back(run.rows[k]);
-    }
+    for (int k = 0; k < stages; ++k) rows.push_back(run.rows[k]);
   }
-  WriteFileAtomically(csv, text);
+  WriteFileAtomically(csv, RunsCsvText(all, stages));
   std::printf("planemap study %s: %zu runs of %s, object '%s', %d frame%s per run\n", study.name.c_str(), runs.size(),
               study.scene.c_str(), study.object.c_str(), study.frames, study.frames == 1 ? "" : "s");
   PrintStudySummary(rows);
