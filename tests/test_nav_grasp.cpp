@@ -2,8 +2,10 @@
 // centre (2.1, 0.1, 0.125) m, yaw 215 deg, depth 0.25 x width 0.35 x height 0.25 m).
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "planemap/core/config.h"
 #include "planemap/nav/grasp.h"
@@ -157,6 +159,52 @@ TEST(Grasp, FailsForAnObjectTooWideOrTooNarrow) {
   check = CheckGrasp(narrow, PreGraspPose(narrow, config, kTowardStart), config);
   EXPECT_FALSE(check.ok);
   EXPECT_NE(check.reason.find("narrower than hand_span_min"), std::string::npos) << check.reason;
+}
+
+TEST(Grasp, TheFacesMappedPlanesPlaceTheObjectForTheHands) {
+  // The map's centre 6 cm off along g and 4 cm across it (generated room 43: 6.8 cm), the +x face
+  // and the side face toward -across mapped where they are; the top mapped too (no horizontal axis).
+  const MapObject truth = DefaultBox();
+  const GraspConfig config;
+  const Eigen::Vector3d g(std::cos(215.0 * kDeg), std::sin(215.0 * kDeg), 0.0);
+  const Eigen::Vector3d across(-g.y(), g.x(), 0.0), up = Eigen::Vector3d::UnitZ();
+  MapObject mapped = truth;
+  mapped.center += 0.06 * g + 0.04 * across;
+  std::vector<PlaneLandmark> landmarks;
+  landmarks.push_back(planemap::testing::Rectangle(0, truth.center + 0.125 * g, across, 0.175, up, 0.125));
+  landmarks.push_back(planemap::testing::Rectangle(1, truth.center - 0.175 * across, g, 0.125, up, 0.125));
+  landmarks.push_back(planemap::testing::Rectangle(2, truth.center + 0.125 * up, g, 0.125, across, 0.175));
+  for (PlaneLandmark& l : landmarks) l.observations = 10;
+  mapped.landmarks = {0, 1, 2};
+  const Eigen::Vector2d side = g.head<2>();
+  const MapObject anchored = AnchoredToMappedFaces(mapped, landmarks, config);
+  EXPECT_NEAR((anchored.center - truth.center).norm() * 100.0, 0.0, 1e-6);
+  const Pose2 pose = PreGraspPose(anchored, config, side), right = PreGraspPose(truth, config, side);
+  EXPECT_NEAR((pose.Position() - right.Position()).norm() * 100.0, 0.0, 1e-6);
+  EXPECT_NEAR((PreGraspPose(mapped, config, side).Position() - right.Position()).norm() * 100.0,
+              100.0 * std::hypot(0.06, 0.04), 1e-6);
+
+  // Along g, no face that can be trusted: the map's centre is kept along g, moved across it.
+  const auto along_g = [&](const std::vector<PlaneLandmark>& faces) {
+    const MapObject a = AnchoredToMappedFaces(mapped, faces, config);
+    EXPECT_NEAR((a.center - truth.center).dot(across) * 100.0, 0.0, 1e-6);
+    return (a.center - mapped.center).dot(g) * 100.0;
+  };
+  std::vector<PlaneLandmark> few = landmarks;
+  few[0].observations = config.face_anchor_min_views - 1;  // seen too few times
+  EXPECT_NEAR(along_g(few), 0.0, 1e-9);
+  std::vector<PlaneLandmark> tilted = landmarks;  // 20 deg off the face
+  const Eigen::Vector3d turned = Eigen::AngleAxisd(20.0 * kDeg, up) * g;
+  tilted[0].plane = Plane{turned, -turned.dot(truth.center + 0.125 * g)};
+  EXPECT_NEAR(along_g(tilted), 0.0, 1e-9);
+  std::vector<PlaneLandmark> beyond = landmarks;  // farther from the centre than the whole depth
+  beyond[0].plane = Plane{g, -g.dot(mapped.center + 0.26 * g)};
+  EXPECT_NEAR(along_g(beyond), 0.0, 1e-9);
+  std::vector<PlaneLandmark> far_side = landmarks;  // the -x face, 2 cm nearer the centre than 12.5 cm
+  far_side[0].plane = Plane{-g, g.dot(mapped.center - 0.105 * g)};
+  EXPECT_NEAR(along_g(far_side), 2.0, 1e-6);
+  // No landmarks at all (ids out of range): unchanged.
+  EXPECT_EQ((AnchoredToMappedFaces(mapped, {}, config).center - mapped.center).norm(), 0.0);
 }
 
 TEST(Grasp, ConfigIsValidated) {

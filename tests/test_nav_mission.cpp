@@ -104,6 +104,8 @@ struct Trial {
   double object_noise = 0.0;                         // object centre estimate noise (std) [m]
   unsigned seed = 1;
   double lost_from = 1e9, lost_to = 1e9;                   // no estimates in [lost_from, lost_to) [s]
+  // ... or, when positive, from lost_from until the robot has turned this much since [deg]
+  double lost_until_turned_deg = 0.0;
   double object_moves_at = 1e9;                            // the object then moves ...
   Eigen::Vector2d object_shift = Eigen::Vector2d::Zero();  // ... by this [m]
   MissionConfig mission;
@@ -144,12 +146,18 @@ Outcome Simulate(const Trial& run) {
   out.planned_pre_grasp = mission.PreGraspTarget();
   std::mt19937 rng(1000 + run.seed);
   std::normal_distribution<double> n(0.0, 1.0);
+  double turned_since_lost = 0.0, last_heading = start.theta;  // [rad]
   for (int frame = 0; frame < 200 * kRate && !mission.Done(); ++frame) {
     const double t = frame / kRate;
     if (t >= run.object_moves_at) truth.center.head<2>() = map.objects[0].center.head<2>() + run.object_shift;
+    if (t >= run.lost_from) turned_since_lost += std::abs(WrapAngle(robot.TruePose().theta - last_heading));
+    last_heading = robot.TruePose().theta;
+    const bool blind = run.lost_until_turned_deg > 0.0
+                           ? t >= run.lost_from && turned_since_lost < run.lost_until_turned_deg * kDeg
+                           : t >= run.lost_from && t < run.lost_to;
     std::optional<Pose2> estimate;
     MapObject seen;
-    if (t < run.lost_from || t >= run.lost_to) {
+    if (!blind) {
       const Pose2 noise{run.pose_noise * n(rng), run.pose_noise * n(rng),
                         run.heading_noise_deg * kDeg * n(rng)};
       estimate = Compose(robot.TruePose(), noise);
@@ -362,22 +370,39 @@ TEST(Mission, TheOpenLoopStopsBeforeALegWithoutMargin) {
   EXPECT_LT(out.records.size(), reached.records.size());
 }
 
-TEST(Mission, ScenarioThreeSwitchesToTheObjectAfterEightControlPoints) {
-  Trial run;
-  const Outcome out = Simulate(run);
-  ASSERT_TRUE(out.status.Reached()) << out.status.reason;
-  int last_path_index = -1;
-  double last_time = -1.0;
-  for (const ControlPointRecord& r : out.records) {
-    if (r.phase == Phase::kPath) last_path_index = r.index;
-    EXPECT_GT(r.time, last_time);
-    last_time = r.time;
+TEST(Mission, ScenarioThreeSwitchesToTheObjectAfterEightControlPointsOnceNear) {
+  // The paper's rule (approach_max_distance out of the way): the object from the 8th point on.
+  // With it, where the 8th point is still more than approach_max_distance from the pre-grasp
+  // pose, the path goes on until the robot is that close.
+  for (const double max_distance : {100.0, MissionConfig{}.approach_max_distance}) {
+    Trial run;
+    run.mission.approach_max_distance = max_distance;
+    const Outcome out = Simulate(run);
+    ASSERT_TRUE(out.status.Reached()) << out.status.reason;
+    int last_path_index = -1;
+    double last_time = -1.0;
+    Pose2 switched;
+    for (const ControlPointRecord& r : out.records) {
+      if (r.phase == Phase::kPath) {
+        last_path_index = r.index;
+        switched = r.estimate;
+      }
+      EXPECT_GT(r.time, last_time);
+      last_time = r.time;
+    }
+    const double distance = (switched.Position() - out.final_target.Position()).norm();
+    if (max_distance > 10.0) {
+      EXPECT_EQ(last_path_index, MissionConfig{}.path_following_points);
+      EXPECT_GT(distance, MissionConfig{}.approach_max_distance);  // the case the bound is for
+    } else {
+      EXPECT_GT(last_path_index, MissionConfig{}.path_following_points);
+      EXPECT_LE(distance, max_distance + 0.02);  // the estimate's noise
+    }
+    EXPECT_EQ(out.records.back().phase, Phase::kApproach);
   }
-  EXPECT_EQ(last_path_index, MissionConfig{}.path_following_points);
-  EXPECT_EQ(out.records.back().phase, Phase::kApproach);
 }
 
-TEST(Mission, LosingTheEstimateStopsTheRobotAndGivesUpWithAReason) {
+TEST(Mission, LosingTheEstimateStopsTheRobotTurnsOnTheSpotThenGivesUpWithAReason) {
   Trial run;
   run.scenario = Scenario::kPathFeedback;
   run.lost_from = 4.0;
@@ -386,14 +411,38 @@ TEST(Mission, LosingTheEstimateStopsTheRobotAndGivesUpWithAReason) {
   const MissionConfig config;
   EXPECT_EQ(out.status.outcome, MissionStatus::Outcome::kStopped);
   EXPECT_NE(out.status.reason.find("no pose estimate for"), std::string::npos) << out.status.reason;
+  EXPECT_NE(out.status.reason.find("after turning on the spot 8 times"), std::string::npos) << out.status.reason;
   EXPECT_FALSE(out.walking_at_end);
-  // Still from lost_timeout (and a frame) after the last estimate on.
+  // Standing from lost_timeout (and a frame) after the last estimate on: it only turns there.
   const size_t still = static_cast<size_t>(std::ceil((run.lost_from + config.lost_timeout) * kRate)) + 2;
   ASSERT_LT(still, out.trajectory.size());
   const Eigen::Vector2d parked = out.trajectory[still].Position();
-  for (size_t f = still; f < out.trajectory.size(); ++f) ASSERT_EQ(out.trajectory[f].Position(), parked) << f;
-  EXPECT_NEAR(static_cast<double>(out.trajectory.size()) / kRate, run.lost_from + config.give_up_timeout,
-              0.1);
+  double turned = 0.0;
+  for (size_t f = still; f < out.trajectory.size(); ++f) {
+    ASSERT_EQ(out.trajectory[f].Position(), parked) << f;
+    turned += WrapAngle(out.trajectory[f].theta - out.trajectory[f - 1].theta);
+  }
+  // recovery_turns_max turns of recovery_turn_deg: a whole turn.
+  EXPECT_NEAR(turned / kDeg, config.recovery_turns_max * config.recovery_turn_deg, 1.0);
+  EXPECT_GE(static_cast<double>(out.trajectory.size()) / kRate, run.lost_from + config.give_up_timeout);
+}
+
+TEST(Mission, ARobotLostWhereNothingMappedIsInViewTurnsUntilItIsAndWalksOn) {
+  // No estimate from 4 s on until the robot has turned 80 deg: what it faced then fixed no pose.
+  Trial run;
+  run.walk = Drifting(3);
+  run.pose_noise = 0.01;
+  run.lost_from = 4.0;
+  run.lost_until_turned_deg = 80.0;
+  const Outcome out = Simulate(run);
+  EXPECT_TRUE(out.status.Reached()) << out.status.reason;
+  EXPECT_LT(out.ErrorCm(), 3.0);
+  // Two recovery turns (90 deg) brought it back; then it turned back to its way.
+  const size_t lost = static_cast<size_t>(4.0 * kRate);
+  double most = 0.0;
+  for (size_t f = lost; f < out.trajectory.size(); ++f)
+    most = std::max(most, std::abs(WrapAngle(out.trajectory[f].theta - out.trajectory[lost].theta)));
+  EXPECT_GT(most / kDeg, 80.0);
 }
 
 TEST(Mission, AShortLossOnlyPausesTheWalk) {

@@ -162,6 +162,33 @@ Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& conf
   return ClosestSide(footprint, toward);
 }
 
+MapObject AnchoredToMappedFaces(const MapObject& object, const std::vector<PlaneLandmark>& landmarks,
+                                const GraspConfig& config) {
+  const Footprint footprint = FootprintOf(object);
+  const double min_cos = std::cos(config.face_anchor_max_angle_deg * M_PI / 180.0);
+  MapObject anchored = object;
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::Vector3d a(footprint.axes(0, k), footprint.axes(1, k), 0.0);
+    const double half = footprint.half_size[k];
+    double shift = 0.0;
+    int views = -1;
+    for (int id : object.landmarks) {
+      if (id < 0 || id >= static_cast<int>(landmarks.size()) || landmarks[id].id != id) continue;
+      const PlaneLandmark& l = landmarks[id];
+      const double cos = l.plane.normal.dot(a);
+      if (std::abs(cos) < min_cos || l.observations < config.face_anchor_min_views || l.observations <= views) continue;
+      // The plane n . p + d = 0 meets the line centre + t a at t; the face there is on the side of t.
+      const double t = -(l.plane.normal.dot(object.center) + l.plane.offset) / cos;
+      const double face = t >= 0.0 ? half : -half;
+      if (std::abs(t - face) > half) continue;  // the face beyond the whole extent, or past the centre
+      shift = t - face;
+      views = l.observations;
+    }
+    anchored.center += shift * a;
+  }
+  return anchored;
+}
+
 Pose2 PreGraspPose(const MapObject& object, const GraspConfig& config, const Eigen::Vector2d& side) {
   const GraspGeometry geometry = GraspFaces(object, side);
   const StandoffBand band = GraspBand(object, geometry, config);

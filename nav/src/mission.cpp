@@ -36,6 +36,7 @@ struct MissionState {
   bool command_complete = true;  // the robot, once stopped, ended the command meant for `target`
   Phase phase = Phase::kPath;
   int approach_steps = 0;
+  int recovery_turns = 0;  // turns on the spot since the estimate was lost
   std::optional<double> first_time, last_estimate_time, still_since, moved_since, replanned_at;  // [s]
   bool lost = false, retarget = false;
   bool blocked = false;  // stopped for want of a way on from where the robot stands
@@ -93,8 +94,11 @@ bool Clamp(const MissionConfig& config, Pose2* command) {
 // estimate that switched grasp faces mid-approach would send the robot round the object.
 // The grid's target follows the estimate too: the approach legs are checked against the object
 // as now seen (its footprint is exact in the grid, so moving it costs nothing).
+// The target as the hands meet it: placed by its faces' mapped planes (AnchoredToMappedFaces).
+MapObject Grasped(const State& s) { return AnchoredToMappedFaces(s.object, s.map.landmarks, s.grasp); }
+
 Pose2 TrackObject(State& s) {
-  const Pose2 goal = PreGraspPose(s.object, s.grasp, s.grasp_axis);
+  const Pose2 goal = PreGraspPose(Grasped(s), s.grasp, s.grasp_axis);
   s.grid.target_footprint = FootprintOf(s.object);
   s.grid.target.pre_grasp = goal;
   return goal;
@@ -130,7 +134,7 @@ void Retarget(State& s, const Pose2& from, const std::optional<Eigen::Vector2d>&
   planned.landmarks = faces;
   const Eigen::Vector2d toward_robot = from.Position() - s.object.center.head<2>();
   s.grasp_axis = side ? GraspFaces(s.object, *side).axis : ChooseGraspSide(s.object, s.grasp, toward_robot);
-  s.pre_grasp = PreGraspPose(s.object, s.grasp, s.grasp_axis);
+  s.pre_grasp = PreGraspPose(Grasped(s), s.grasp, s.grasp_axis);
   s.planned_center = s.object.center.head<2>();
   s.planned_axes = s.object.axes;
   s.moved_since.reset();
@@ -245,7 +249,8 @@ void ApproachStep(State& s, double time, const Pose2& estimate, bool record) {
 }
 
 // Scenario 3 turns to the object after path_following_points control points, with little path
-// left, or at the last control point; when the straight leg to the object's pre-grasp pose is free.
+// left, or at the last control point; when the object's pre-grasp pose is within
+// approach_max_distance and the straight leg to it is free.
 bool ShouldApproach(State& s, const Pose2& estimate) {
   if (s.scenario != Scenario::kObjectApproach) return false;
   double remaining = 0.0;
@@ -257,7 +262,9 @@ bool ShouldApproach(State& s, const Pose2& estimate) {
     return false;
   const Footprint planned_footprint = s.grid.target_footprint;
   const GraspTarget planned_target = s.grid.target;
-  if (SegmentFree(s.grid, estimate.Position(), TrackObject(s).Position())) return true;
+  const Pose2 goal = TrackObject(s);
+  const bool near = last || (goal.Position() - estimate.Position()).norm() <= s.config.approach_max_distance;
+  if (near && SegmentFree(s.grid, estimate.Position(), goal.Position())) return true;
   s.grid.target_footprint = planned_footprint;  // staying on the path: its legs are checked
   s.grid.target = planned_target;               // against the plan's target
   return false;
@@ -318,24 +325,45 @@ void Act(State& s, double time, const Pose2& estimate, const PlaneMap* map) {
   PathStep(s, time, estimate);
 }
 
-// Stops the robot after lost_timeout without an estimate, ends the mission after give_up_timeout;
-// whether the robot is to wait.
+// Stops the robot after lost_timeout without an estimate. Standing still settle_time, the robot
+// turns on the spot (recovery_turn_deg) to bring mapped structure into view: a camera that sees
+// only the floor of a large room, or a wall close up, shows the tracker nothing that fixes a
+// heading, and a robot standing there would see nothing else. The mission ends once
+// give_up_timeout has passed and recovery_turns_max turns found no pose. Whether the robot is to
+// wait.
 bool HandleLost(State& s, double time) {
   const double since = time - s.last_estimate_time.value_or(*s.first_time);
-  if (since > s.config.give_up_timeout) {
-    Finish(s, Outcome::kStopped,
-           Format("no pose estimate for %.1f s (give_up_timeout %.1f s)", since, s.config.give_up_timeout));
-    return true;
-  }
   if (since <= s.config.lost_timeout) {
     s.lost = false;
+    s.recovery_turns = 0;
     return false;
   }
-  if (!s.lost && s.robot->IsWalking()) {
-    s.robot->Stop();
-    s.command_complete = false;
+  if (!s.lost) {
+    if (s.robot->IsWalking()) {
+      s.robot->Stop();
+      s.command_complete = false;
+    }
+    s.still_since.reset();  // it looks from where it stopped before it turns
   }
   s.lost = true;
+  if (s.robot->IsWalking()) {
+    s.still_since.reset();
+    return true;
+  }
+  if (!s.still_since) s.still_since = time;
+  if (time - *s.still_since < s.config.settle_time) return true;
+  if (s.recovery_turns < s.config.recovery_turns_max) {
+    ++s.recovery_turns;
+    s.robot->MoveTo(0.0, 0.0, s.config.recovery_turn_deg * kDeg);
+    s.still_since.reset();
+    return true;
+  }
+  if (since > s.config.give_up_timeout) {
+    Finish(s, Outcome::kStopped,
+           Format("no pose estimate for %.1f s (give_up_timeout %.1f s)", since, s.config.give_up_timeout) +
+               " after turning on the spot " + std::to_string(s.recovery_turns) +
+               " times (mission.recovery_turns_max)");
+  }
   return true;
 }
 
@@ -419,7 +447,7 @@ PlanResult Mission::Plan(const PlaneMap& map, int object_index, const Pose2& sta
   PlanResult first_failure;
   for (size_t k = 0; k < sides.size(); ++k) {
     Retarget(s, start_estimate, sides[k]);
-    const GraspCheck check = CheckGrasp(s.object, s.pre_grasp, s.grasp);
+    const GraspCheck check = CheckGrasp(Grasped(s), s.pre_grasp, s.grasp);
     if (!check.ok) {
       failure.reason = "object " + std::to_string(object_index) +
                        " cannot be grasped from its pre-grasp pose: " + check.reason;

@@ -31,6 +31,10 @@ struct GraspConfig {
   double hand_span_min = 0.10;     // narrowest object across the grasp points [m]
   double hand_span_max = 0.40;     // widest [m]
   double heading_tolerance_deg = 5.0;  // the standoff band keeps the grasp with the robot turned this much [deg]
+  // A face's mapped plane places the object along its axis (AnchoredToMappedFaces) when it is
+  // this parallel to that face [deg] ...
+  double face_anchor_max_angle_deg = 10.0;
+  int face_anchor_min_views = 3;  // ... and seen in this many frames
 
   template <class V>
   void VisitFields(V&& v) {
@@ -43,6 +47,8 @@ struct GraspConfig {
     v("hand_span_min", hand_span_min, Check::kNonNegative);
     v("hand_span_max", hand_span_max, Check::kPositive);
     v("heading_tolerance_deg", heading_tolerance_deg, Check::kNonNegative);
+    v("face_anchor_max_angle_deg", face_anchor_max_angle_deg, Check::kPositive);
+    v("face_anchor_min_views", face_anchor_min_views, Check::kNonNegative);
   }
 };
 
@@ -83,6 +89,18 @@ std::vector<Eigen::Vector2d> GraspSides(const MapObject& object, const GraspConf
 // the robot, and the grasp check will say why it fails.
 Eigen::Vector2d ChooseGraspSide(const MapObject& object, const GraspConfig& config,
                                 const Eigen::Vector2d& toward_robot);
+
+// The object as the hands meet it: along each horizontal axis of its footprint, its centre moved
+// so that a face lies on its mapped plane (the object's face landmark most seen along that axis,
+// at least face_anchor_min_views, within face_anchor_max_angle_deg of it, and no farther from
+// where the dimensions put that face than half the extent). The map's centre is the mean of
+// every view's (eq. 7), and views that saw the box in part guess its hidden sides: the centre can
+// lie centimetres off the faces the robot sees close up (generated room 43: 6.8 cm across the
+// grasp axis, the face right to 0.2 cm), and the standoff and the grasp points are placed from
+// it. An axis without such a face keeps the map's centre. Only the grasp geometry takes it:
+// matching, the grid and the search keep the map's centre.
+MapObject AnchoredToMappedFaces(const MapObject& object, const std::vector<PlaneLandmark>& landmarks,
+                                const GraspConfig& config);
 
 // Where the robot stands to grasp from the side closest to `side`: centre_xy + g * the middle of
 // the standoff band (its near end if the band is empty), facing -g (the camera's main axis along

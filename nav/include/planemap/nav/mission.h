@@ -7,7 +7,8 @@
 //     stops at each control point, stands still settle_time, then reads the estimate.
 // Safety, in every scenario: each commanded leg is checked on the grid from the estimated pose
 // (blocked: re-plan; scenario 1, which has no feedback, stops instead); no estimate for
-// lost_timeout stops the robot until one comes back. In scenarios 2 and 3 an object estimate that
+// lost_timeout stops the robot until one comes back; standing, it turns on the spot
+// (recovery_turn_deg, at most recovery_turns_max times) to bring mapped structure into view. In scenarios 2 and 3 an object estimate that
 // stays object_moved_threshold away from where it was planned, or turned object_turned_threshold_deg
 // from how, re-targets the pre-grasp pose.
 #include <Eigen/Core>
@@ -40,9 +41,17 @@ struct MissionConfig {
   double approach_heading_tolerance_deg = 2.0;  // ... and this well aligned [deg]
   int path_following_points = 8;          // scenario 3 follows the path to this control point (paper) ...
   double approach_switch_distance = 0.5;  // ... or until this much path is left [m]
+  // ... and only this close to the pre-grasp pose (two max_step): the object-relative steps are the
+  // last stretch, taken with the box in view; a longer way is the planned path's, which keeps the
+  // camera on the way ahead [m].
+  double approach_max_distance = 0.6;
   double settle_time = 0.5;               // standing still at a stop before reading the estimate [s]
   double lost_timeout = 0.5;              // without a pose estimate this long the robot stops [s]
   double give_up_timeout = 5.0;           // ... and this long the mission ends [s]
+  // Lost and standing still settle_time, the robot turns on the spot this much to bring mapped
+  // structure into view (the tracker finds its pose again from it) ... [deg]
+  double recovery_turn_deg = 45.0;
+  int recovery_turns_max = 8;  // ... at most this many times (a whole turn) before giving up
   double object_moved_threshold = 0.10;   // object estimate this far from the planned one ... [m]
   double object_turned_threshold_deg = 5.0;  // ... or turned this much about the vertical ... [deg]
   double object_moved_time = 0.3;         // ... this long: re-target and re-plan [s]
@@ -68,9 +77,12 @@ struct MissionConfig {
     v("approach_heading_tolerance_deg", approach_heading_tolerance_deg, Check::kPositive);
     v("path_following_points", path_following_points, Check::kNonNegative);
     v("approach_switch_distance", approach_switch_distance, Check::kNonNegative);
+    v("approach_max_distance", approach_max_distance, Check::kPositive);
     v("settle_time", settle_time, Check::kNonNegative);
     v("lost_timeout", lost_timeout, Check::kPositive);
     v("give_up_timeout", give_up_timeout, Check::kPositive);
+    v("recovery_turn_deg", recovery_turn_deg, Check::kPositive);
+    v("recovery_turns_max", recovery_turns_max, Check::kNonNegative);
     v("object_moved_threshold", object_moved_threshold, Check::kPositive);
     v("object_turned_threshold_deg", object_turned_threshold_deg, Check::kPositive);
     v("object_moved_time", object_moved_time, Check::kNonNegative);
