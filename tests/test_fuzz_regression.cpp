@@ -1,0 +1,42 @@
+// What the fuzz targets (fuzz/, docs/fuzzing.md) found: each input in tests/data/fuzz/<target>/,
+// read through the function the tool calls, as the target drove it. Each used to crash the tool
+// (or be undefined behaviour); each must now be an InputError naming the file and what is wrong.
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "planemap/core/error.h"
+#include "planemap/sim/scene.h"
+#include "test_support.h"
+
+namespace planemap {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string FuzzInput(const std::string& target, const std::string& name) {
+  return testing::SourcePath("tests/data/fuzz/" + target + "/" + name);
+}
+
+// `read(file)` throws an InputError naming `file` and saying `what`.
+template <class Read>
+void ExpectInputError(const std::string& file, Read read, const std::string& what) {
+  try {
+    read(file);
+    ADD_FAILURE() << file << " was read without an error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(file));
+    EXPECT_THAT(e.what(), HasSubstr(what));
+  }
+}
+
+// A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from
+// every config and scene reader's unknown-key check, an error naming no file.
+TEST(FuzzRegression, SceneKeyNotAName) {
+  ExpectInputError(FuzzInput("scene_yaml", "key_not_a_name.yaml"), [](const std::string& file) { sim::LoadScene(file); },
+                   ":18: a key in 'walls[1]' is not a name");
+}
+
+}  // namespace
+}  // namespace planemap
