@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "planemap/core/error.h"
+#include "planemap/frontend/pcd_source.h"
 #include "planemap/sim/scene.h"
 #include "test_support.h"
 
@@ -29,6 +30,16 @@ void ExpectInputError(const std::string& file, Read read, const std::string& wha
     EXPECT_THAT(e.what(), HasSubstr(file));
     EXPECT_THAT(e.what(), HasSubstr(what));
   }
+}
+
+// PCL's header reader threw std::out_of_range at a DATA line without its kind (ascii, binary, ...);
+// it escaped the reader and named no file.
+TEST(FuzzRegression, PcdDataLineWithoutKind) {
+  CameraIntrinsics camera;  // fuzz_pcd's 8x6 camera
+  camera.width = 8;
+  camera.height = 6;
+  ExpectInputError(FuzzInput("pcd", "data_line_without_kind.pcd"),
+                   [&](const std::string& file) { LoadOrganizedPcd(file, camera); }, "not a PCD file (broken header");
 }
 
 // A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from
