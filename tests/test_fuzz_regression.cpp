@@ -8,6 +8,7 @@
 
 #include "planemap/core/error.h"
 #include "planemap/frontend/pcd_source.h"
+#include "planemap/io/plane_map_io.h"
 #include "planemap/sim/scene.h"
 #include "test_support.h"
 
@@ -47,6 +48,13 @@ TEST(FuzzRegression, PcdDataLineWithoutKind) {
 TEST(FuzzRegression, SceneKeyNotAName) {
   ExpectInputError(FuzzInput("scene_yaml", "key_not_a_name.yaml"), [](const std::string& file) { sim::LoadScene(file); },
                    ":18: a key in 'walls[1]' is not a name");
+}
+
+// An object's evidence counts beyond int's range were cast to int: undefined behaviour (UBSan).
+TEST(FuzzRegression, MapJsonCountBeyondInt) {
+  ExpectInputError(FuzzInput("map_json", "complete_count_beyond_int.json"),
+                   [](const std::string& file) { ReadPlaneMapJson(file); },
+                   "objects[0].evidence.complete_count[0]: expected an integer, got 20000000000.0");
 }
 
 }  // namespace
