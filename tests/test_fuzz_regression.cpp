@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "planemap/apps/study.h"
 #include "planemap/core/error.h"
 #include "planemap/frontend/pcd_source.h"
 #include "planemap/io/plane_map_io.h"
@@ -55,6 +56,13 @@ TEST(FuzzRegression, MapJsonCountBeyondInt) {
   ExpectInputError(FuzzInput("map_json", "complete_count_beyond_int.json"),
                    [](const std::string& file) { ReadPlaneMapJson(file); },
                    "objects[0].evidence.complete_count[0]: expected an integer, got 20000000000.0");
+}
+
+// 100,000,000 seeds per cell: LoadStudy listed 3e9 runs and checked their viewpoints, loading
+// the scene once per cell, for minutes before running out of memory (a hang to the fuzz target).
+TEST(FuzzRegression, StudyWithAHundredMillionSeeds) {
+  ExpectInputError(FuzzInput("study_yaml", "hundred_million_seeds.yaml"), [](const std::string& file) { LoadStudy(file); },
+                   "the sweep's 3000000000 runs of 5 frames are more than the 1000000 frames one study may render");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "planemap/apps/app_config.h"
 #include "planemap/core/error.h"
@@ -36,6 +37,10 @@ Eigen::Vector3d Eye(const StudyConfig& study, const StudyRun& run, const sim::Sc
 }  // namespace study_internal
 
 namespace {
+
+// Frames one study may render (runs x frames): the default study renders 600, the 10,000 runs of
+// docs/cluster.md 50,000; a million takes a 32-core node days.
+constexpr double kMaxStudyFrames = 1e6;
 
 using study_internal::Eye;
 using study_internal::Number;
@@ -101,12 +106,22 @@ StudyConfig LoadStudy(const std::string& file) {
     require(false, "object: scene '" + scene.name + "' has no object '" + study.object + "'");
   }
   LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));  // a bad pipeline file fails now
+  // A study too large to run fails now, not after hours (or all the memory) spent listing and
+  // checking its viewpoints: a fuzzed seeds: 100000000 hung here. Runs x frames bounds both.
+  const double runs = static_cast<double>(s.distance.size()) * s.viewing_angle_deg.size() * s.noise.size() *
+                      s.object_scale.size() * s.segmenter.size() * study.seeds;
+  require(runs * study.frames <= kMaxStudyFrames, "the sweep's " + Short(runs) + " runs of " + std::to_string(study.frames) +
+                                                      " frames are more than the " + Short(kMaxStudyFrames) +
+                                                      " frames one study may render; split it");
+  // Every viewpoint of the first seed, the scene scaled once per object_scale (not once per run).
+  std::map<double, sim::Scene> scaled;
   for (const StudyRun& run : StudyRuns(study)) {
     if (run.seed != 1) continue;
-    const sim::Scene scaled = StudyScene(study, run.object_scale);
+    auto it = scaled.find(run.object_scale);
+    if (it == scaled.end()) it = scaled.emplace(run.object_scale, StudyScene(study, run.object_scale)).first;
     for (int k = 0; k < study.frames; ++k) {
-      const Eigen::Vector3d eye = Eye(study, run, scaled.object(study.object), k);
-      const std::string problem = ViewpointProblem(scaled, eye);
+      const Eigen::Vector3d eye = Eye(study, run, it->second.object(study.object), k);
+      const std::string problem = ViewpointProblem(it->second, eye);
       require(problem.empty(), "distance " + Short(run.distance) + " m at viewing angle " + Short(run.viewing_angle_deg) +
                                    " deg puts the camera at (" + Number(eye.x(), "%.2f") + ", " + Number(eye.y(), "%.2f") +
                                    ") m, " + problem + " of scene '" + scene.name + "'");
