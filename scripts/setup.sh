@@ -8,6 +8,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(
   build-essential cmake ninja-build lld pkg-config
+  clang-14 libclang-rt-14-dev   # the fuzz targets (libFuzzer): scripts/fuzz.sh
   libeigen3-dev libceres-dev libsuitesparse-dev libpcl-dev libopencv-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libboost-math-dev
   libgtest-dev libgmock-dev libbenchmark-dev

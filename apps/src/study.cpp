@@ -15,66 +15,16 @@
 #include "planemap/pipeline/mapper.h"
 #include "planemap/sim/scene.h"
 #include "planemap/sim/virtual_camera.h"
+#include "study_internal.h"
 
 namespace planemap {
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
+using study_internal::Eye;
+using study_internal::Number;
+using study_internal::Short;
+
 constexpr double kCm = 100.0;  // [cm/m]
-
-// The scene file with the studied object's dimensions scaled by `scale`, its bottom kept where it
-// was (on the floor). Markers printed on it keep their size and place on its faces.
-sim::Scene ScaledScene(const std::string& file, const std::string& object, double scale) {
-  YAML::Node root = LoadYamlFile(file);
-  if (scale != 1.0 && root["objects"] && root["objects"].IsSequence()) {
-    for (YAML::Node item : root["objects"]) {
-      if (!item.IsMap() || !item["name"] || item["name"].as<std::string>() != object) continue;
-      if (!item["dimensions"] || !item["position"]) break;  // ParseScene names what is missing
-      std::vector<double> dims = item["dimensions"].as<std::vector<double>>();
-      std::vector<double> position = item["position"].as<std::vector<double>>();
-      if (dims.size() != 3 || position.size() != 3) break;
-      position[2] += 0.5 * dims[2] * (scale - 1.0);
-      for (double& d : dims) d *= scale;
-      item["dimensions"] = dims;
-      item["position"] = position;
-    }
-  }
-  return sim::ParseScene(root, file);
-}
-
-
-// Camera position of frame `k` of a run: on a circle around the object at the run's distance.
-Eigen::Vector3d Eye(const StudyConfig& study, const StudyRun& run, const sim::SceneObject& object, int k) {
-  const Eigen::Vector3d x_axis = object.T_world_object.linear().col(0);
-  double bearing = std::atan2(x_axis.y(), x_axis.x()) - run.viewing_angle_deg * kDegToRad;
-  if (study.frames > 1) bearing += study.path_length / run.distance * (static_cast<double>(k) / (study.frames - 1) - 0.5);
-  const Eigen::Vector3d c = object.Center();
-  return {c.x() + run.distance * std::cos(bearing), c.y() + run.distance * std::sin(bearing), study.camera_height};
-}
-
-// Where a viewpoint is impossible: outside the floor or inside a solid; empty if it is fine.
-std::string ViewpointProblem(const sim::Scene& scene, const Eigen::Vector3d& eye) {
-  for (size_t i : scene.flat_surfaces) {
-    const sim::Surface& s = scene.surfaces[i];
-    if (s.object != "floor") continue;
-    const Eigen::Vector3d d = eye - s.center_world;
-    if (std::abs(d.dot(s.axis_u)) > s.half_u || std::abs(d.dot(s.axis_v)) > s.half_v) return "outside the floor";
-  }
-  for (const sim::Cuboid& c : scene.cuboids) {
-    const Eigen::Vector3d p = c.T_world_box.inverse() * eye;
-    if ((p.cwiseAbs() - 0.5 * c.dimensions).maxCoeff() < 0.0) return "inside an object";
-  }
-  return "";
-}
-
-std::string Number(double value, const char* format = "%.4f") {
-  if (std::isnan(value)) return "";
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
-
-std::string Short(double value) { return Number(value, "%.10g"); }
 
 std::vector<std::string> SplitCsv(const std::string& line) {
   std::vector<std::string> fields;
@@ -127,63 +77,6 @@ void ScoreObject(const ObjectError& e, const std::vector<ObjectEstimate>& estima
   row->center_error = e.center_error;
   row->axis_error_deg = e.axis_error_deg;
   row->grasp_axis_error_deg = e.grasp_axis_error_deg;
-}
-
-sim::Scene StudyScene(const StudyConfig& study, double object_scale) {
-  return ScaledScene(ResolveConfigPath(study.scene), study.object, object_scale);
-}
-
-StudyConfig LoadStudy(const std::string& file) {
-  StudyConfig study = LoadConfigFile<StudyConfig>(file);
-  const StudySweep& s = study.sweep;
-  auto require = [&](bool ok, const std::string& what) {
-    if (!ok) ThrowInputError(file, 0, what);
-  };
-  require(!s.distance.empty() && !s.viewing_angle_deg.empty() && !s.noise.empty() && !s.object_scale.empty() &&
-              !s.segmenter.empty(),
-          "every sweep list needs at least one value");
-  for (const std::string& m : s.segmenter) {
-    require(m == "organized" || m == "msac", "sweep.segmenter: unknown segmenter '" + m + "' (organized, msac)");
-  }
-  const sim::Scene scene = sim::LoadScene(ResolveConfigPath(study.scene));
-  try {
-    scene.object(study.object);
-  } catch (const std::out_of_range&) {
-    require(false, "object: scene '" + scene.name + "' has no object '" + study.object + "'");
-  }
-  LoadConfigFile<AppConfig>(ResolveConfigPath(study.config));  // a bad pipeline file fails now
-  for (const StudyRun& run : StudyRuns(study)) {
-    if (run.seed != 1) continue;
-    const sim::Scene scaled = StudyScene(study, run.object_scale);
-    for (int k = 0; k < study.frames; ++k) {
-      const Eigen::Vector3d eye = Eye(study, run, scaled.object(study.object), k);
-      const std::string problem = ViewpointProblem(scaled, eye);
-      require(problem.empty(), "distance " + Short(run.distance) + " m at viewing angle " + Short(run.viewing_angle_deg) +
-                                   " deg puts the camera at (" + Number(eye.x(), "%.2f") + ", " + Number(eye.y(), "%.2f") +
-                                   ") m, " + problem + " of scene '" + scene.name + "'");
-    }
-  }
-  return study;
-}
-
-std::vector<StudyRun> StudyRuns(const StudyConfig& study) {
-  std::vector<StudyRun> runs;
-  const StudySweep& s = study.sweep;
-  for (double distance : s.distance) {
-    for (double angle : s.viewing_angle_deg) {
-      for (double noise : s.noise) {
-        for (double scale : s.object_scale) {
-          for (const std::string& segmenter : s.segmenter) {
-            for (int seed = 1; seed <= study.seeds; ++seed) {
-              StudyRun run{static_cast<int>(runs.size()), distance, angle, noise, scale, segmenter, seed};
-              runs.push_back(run);
-            }
-          }
-        }
-      }
-    }
-  }
-  return runs;
 }
 
 std::vector<StudyRow> RunStudyCell(const StudyConfig& study, const StudyRun& run, StudyRunMap* seen) {

@@ -77,7 +77,13 @@ ConfigReader::ConfigReader(const YAML::Node& map, std::string file, std::string 
 
 void ConfigReader::RejectUnknownKeys() const {
   for (const auto& entry : map_) {
-    const std::string key = entry.first.as<std::string>();
+    // A key that is a list, a map or nothing names no setting (as<std::string> would throw an
+    // error naming no file).
+    if (!entry.first.IsScalar()) {
+      const std::string where = prefix_.empty() ? "" : " in '" + prefix_.substr(0, prefix_.size() - 1) + "'";
+      ThrowInputError(file_, LineOf(entry.first), "a key" + where + " is not a name (a list, a map or empty)");
+    }
+    const std::string key = entry.first.Scalar();
     if (std::find(used_.begin(), used_.end(), key) != used_.end()) continue;
     std::ostringstream known;
     for (size_t i = 0; i < used_.size(); ++i) known << (i ? ", " : "") << used_[i];

@@ -20,9 +20,15 @@ PcdFrame LoadOrganizedPcd(const std::string& file, const CameraIntrinsics& camer
   Eigen::Quaternionf orientation;
   int version = 0, data_type = 0;
   unsigned int data_start = 0;
-  if (reader.readHeader(file, header, origin, orientation, version, data_type, data_start) != 0) {
-    ThrowInputError(file, 0, "not a PCD file (no valid header)");
+  // PCL throws std::exceptions of its own on some broken headers (a FIELDS line longer than COUNT's:
+  // std::out_of_range); they name no file.
+  int header_status = 0;
+  try {
+    header_status = reader.readHeader(file, header, origin, orientation, version, data_type, data_start);
+  } catch (const std::exception& e) {
+    ThrowInputError(file, 0, std::string("not a PCD file (broken header: ") + e.what() + ")");
   }
+  if (header_status != 0) ThrowInputError(file, 0, "not a PCD file (no valid header)");
   if (header.width == 0 || header.height == 0) ThrowInputError(file, 0, "not a PCD file, or one without points");
   if (static_cast<int>(header.width) != camera.width || static_cast<int>(header.height) != camera.height) {
     ThrowInputError(file, 0, "cloud is " + std::to_string(header.width) + "x" + std::to_string(header.height) +

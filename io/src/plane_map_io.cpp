@@ -280,8 +280,10 @@ PlaneMap ReadPlaneMapJson(const std::string& file) {
     }
     if (o.Has("evidence")) {
       const Node e = o["evidence"];
-      const std::vector<double> counts = e["complete_count"].Numbers(3);
-      for (int k = 0; k < 3; ++k) m.complete_count[k] = static_cast<int>(counts[k]);
+      // Counts as integers: a number beyond int's range cast to int is undefined behaviour.
+      const Node counts = e["complete_count"];
+      if (!counts.raw().is_array() || counts.Size() != 3) counts.Fail("", "expected 3 counts, got " + counts.raw().dump());
+      for (size_t k = 0; k < 3; ++k) m.complete_count[k] = counts[k].Int();
       m.complete_sum = e["complete_sum"].Vector();
       m.center_count = e["center_count"].Int();
       m.center_sum = e["center_sum"].Vector();

@@ -1,0 +1,69 @@
+// What the fuzz targets (fuzz/, docs/fuzzing.md) found: each input in tests/data/fuzz/<target>/,
+// read through the function the tool calls, as the target drove it. Each used to crash the tool
+// (or be undefined behaviour); each must now be an InputError naming the file and what is wrong.
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "planemap/apps/study.h"
+#include "planemap/core/error.h"
+#include "planemap/frontend/pcd_source.h"
+#include "planemap/io/plane_map_io.h"
+#include "planemap/sim/scene.h"
+#include "test_support.h"
+
+namespace planemap {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string FuzzInput(const std::string& target, const std::string& name) {
+  return testing::SourcePath("tests/data/fuzz/" + target + "/" + name);
+}
+
+// `read(file)` throws an InputError naming `file` and saying `what`.
+template <class Read>
+void ExpectInputError(const std::string& file, Read read, const std::string& what) {
+  try {
+    read(file);
+    ADD_FAILURE() << file << " was read without an error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(file));
+    EXPECT_THAT(e.what(), HasSubstr(what));
+  }
+}
+
+// PCL's header reader threw std::out_of_range at a DATA line without its kind (ascii, binary, ...);
+// it escaped the reader and named no file.
+TEST(FuzzRegression, PcdDataLineWithoutKind) {
+  CameraIntrinsics camera;  // fuzz_pcd's 8x6 camera
+  camera.width = 8;
+  camera.height = 6;
+  ExpectInputError(FuzzInput("pcd", "data_line_without_kind.pcd"),
+                   [&](const std::string& file) { LoadOrganizedPcd(file, camera); }, "not a PCD file (broken header");
+}
+
+// A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from
+// every config and scene reader's unknown-key check, an error naming no file.
+TEST(FuzzRegression, SceneKeyNotAName) {
+  ExpectInputError(FuzzInput("scene_yaml", "key_not_a_name.yaml"), [](const std::string& file) { sim::LoadScene(file); },
+                   ":18: a key in 'walls[1]' is not a name");
+}
+
+// An object's evidence counts beyond int's range were cast to int: undefined behaviour (UBSan).
+TEST(FuzzRegression, MapJsonCountBeyondInt) {
+  ExpectInputError(FuzzInput("map_json", "complete_count_beyond_int.json"),
+                   [](const std::string& file) { ReadPlaneMapJson(file); },
+                   "objects[0].evidence.complete_count[0]: expected an integer, got 20000000000.0");
+}
+
+// 100,000,000 seeds per cell: LoadStudy listed 3e9 runs and checked their viewpoints, loading
+// the scene once per cell, for minutes before running out of memory (a hang to the fuzz target).
+TEST(FuzzRegression, StudyWithAHundredMillionSeeds) {
+  ExpectInputError(FuzzInput("study_yaml", "hundred_million_seeds.yaml"), [](const std::string& file) { LoadStudy(file); },
+                   "the sweep's 3000000000 runs of 5 frames are more than the 1000000 frames one study may render");
+}
+
+}  // namespace
+}  // namespace planemap
