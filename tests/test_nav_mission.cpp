@@ -427,16 +427,24 @@ TEST(Mission, LosingTheEstimateStopsTheRobotTurnsOnTheSpotThenGivesUpWithAReason
   EXPECT_GE(static_cast<double>(out.trajectory.size()) / kRate, run.lost_from + config.give_up_timeout);
 }
 
-TEST(Mission, ARobotLostWhereNothingMappedIsInViewTurnsUntilItIsAndWalksOn) {
-  // No estimate from 4 s on until the robot has turned 80 deg: what it faced then fixed no pose.
+// A drifting walker with 1 cm of estimate noise that loses its estimate at 4 s; reaches the
+// pre-grasp pose within 3 cm.
+Outcome LostAtFourSeconds(double lost_to, double lost_until_turned_deg) {
   Trial run;
   run.walk = Drifting(3);
   run.pose_noise = 0.01;
   run.lost_from = 4.0;
-  run.lost_until_turned_deg = 80.0;
+  run.lost_to = lost_to;
+  run.lost_until_turned_deg = lost_until_turned_deg;
   const Outcome out = Simulate(run);
   EXPECT_TRUE(out.status.Reached()) << out.status.reason;
   EXPECT_LT(out.ErrorCm(), 3.0);
+  return out;
+}
+
+TEST(Mission, ARobotLostWhereNothingMappedIsInViewTurnsUntilItIsAndWalksOn) {
+  // No estimate from 4 s on until the robot has turned 80 deg: what it faced then fixed no pose.
+  const Outcome out = LostAtFourSeconds(1e9, 80.0);
   // Two recovery turns (90 deg) brought it back; then it turned back to its way.
   const size_t lost = static_cast<size_t>(4.0 * kRate);
   double most = 0.0;
@@ -446,14 +454,7 @@ TEST(Mission, ARobotLostWhereNothingMappedIsInViewTurnsUntilItIsAndWalksOn) {
 }
 
 TEST(Mission, AShortLossOnlyPausesTheWalk) {
-  Trial run;
-  run.walk = Drifting(3);
-  run.pose_noise = 0.01;
-  run.lost_from = 4.0;
-  run.lost_to = 6.0;
-  const Outcome out = Simulate(run);
-  EXPECT_TRUE(out.status.Reached()) << out.status.reason;
-  EXPECT_LT(out.ErrorCm(), 3.0);
+  const Outcome out = LostAtFourSeconds(6.0, 0.0);
   const size_t from = static_cast<size_t>(4.6 * kRate), to = static_cast<size_t>(6.0 * kRate) - 1;
   EXPECT_EQ(out.trajectory[from].Position(), out.trajectory[to].Position());
 }
