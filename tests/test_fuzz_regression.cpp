@@ -44,6 +44,17 @@ TEST(FuzzRegression, PcdDataLineWithoutKind) {
                    [&](const std::string& file) { LoadOrganizedPcd(file, camera); }, "not a PCD file (broken header");
 }
 
+// A SIZE line's value beyond any type (44444444444444444444444444, read by PCL as a huge size):
+// PCL's header reader allocated width x height x that (206 GB) before reading a point.
+TEST(FuzzRegression, PcdSizeBeyondAnyType) {
+  CameraIntrinsics camera;  // fuzz_pcd's 8x6 camera
+  camera.width = 8;
+  camera.height = 6;
+  ExpectInputError(FuzzInput("pcd", "size_beyond_any_type.pcd"),
+                   [&](const std::string& file) { LoadOrganizedPcd(file, camera); },
+                   ":3: not a PCD file (SIZE '44444444444444444444444444' is no field size");
+}
+
 // A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from
 // every config and scene reader's unknown-key check, an error naming no file.
 TEST(FuzzRegression, SceneKeyNotAName) {

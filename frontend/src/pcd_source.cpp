@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
+#include <string>
 
 #include <pcl/io/pcd_io.h>
 
@@ -11,8 +14,55 @@
 
 namespace planemap {
 
+namespace {
+
+// Bytes one point may take (the sum of SIZE x COUNT over its fields): the PCD files planemap reads
+// hold a few numbers a point; PCL's header reader allocates width x height x this before it reads
+// a point, so a header claiming more is refused first (fuzz_pcd: SIZE 44444444444444444444444444
+// asked for 206 GB).
+constexpr long long kMaxPointBytes = 1024;
+
+// PCL's reader trusts the header's SIZE and COUNT lines: checked here before it sees them. Every
+// SIZE is 1, 2, 4 or 8 (the PCD format's), every COUNT a positive number, and a point takes at most
+// kMaxPointBytes.
+void CheckPcdPointSize(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::vector<long long> sizes, counts;
+  std::string line;
+  for (int number = 1; number <= 64 && std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "DATA") break;
+    if (key != "SIZE" && key != "COUNT") continue;
+    std::vector<long long>& values = key == "SIZE" ? sizes : counts;
+    for (std::string word; words >> word;) {
+      long long value = 0;
+      std::size_t used = 0;
+      try {
+        value = std::stoll(word, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      const bool ok = used == word.size() &&
+                      (key == "SIZE" ? value == 1 || value == 2 || value == 4 || value == 8 : value >= 1 && value <= kMaxPointBytes);
+      if (!ok) ThrowInputError(file, number, "not a PCD file (" + key + " '" + word + "' is no field " + (key == "SIZE" ? "size: 1, 2, 4 or 8)" : "count)"));
+      values.push_back(value);
+    }
+  }
+  long long bytes = 0;
+  for (size_t k = 0; k < sizes.size(); ++k) bytes += sizes[k] * (k < counts.size() ? counts[k] : 1);
+  if (bytes > kMaxPointBytes) {
+    ThrowInputError(file, 0, "a point takes " + std::to_string(bytes) + " bytes (SIZE x COUNT), more than the " +
+                                 std::to_string(kMaxPointBytes) + " of any cloud planemap reads");
+  }
+}
+
+}  // namespace
+
 PcdFrame LoadOrganizedPcd(const std::string& file, const CameraIntrinsics& camera) {
   if (!std::filesystem::is_regular_file(file)) ThrowInputError(file, 0, "no such PCD file");
+  CheckPcdPointSize(file);
   // The header first: PCL's reader crashes on a file whose header holds no points (PCL 1.13).
   pcl::PCDReader reader;
   pcl::PCLPointCloud2 header;
