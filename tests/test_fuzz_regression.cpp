@@ -52,7 +52,17 @@ TEST(FuzzRegression, PcdSizeBeyondAnyType) {
   camera.height = 6;
   ExpectInputError(FuzzInput("pcd", "size_beyond_any_type.pcd"),
                    [&](const std::string& file) { LoadOrganizedPcd(file, camera); },
-                   ":3: not a PCD file (SIZE '44444444444444444444444444' is no field size");
+                   ":3: not a PCD file (SIZE '44444444444444444444444444' is no number)");
+}
+
+// A header without SIZE lines whose POINTS line claims 307207120 points (the line goes on with
+// bytes that are no number): PCL allocated for them (85 GB) before reading one.
+TEST(FuzzRegression, PcdPointsBeyondTheCamera) {
+  CameraIntrinsics camera;  // fuzz_pcd's 8x6 camera
+  camera.width = 8;
+  camera.height = 6;
+  ExpectInputError(FuzzInput("pcd", "points_beyond_the_camera.pcd"),
+                   [&](const std::string& file) { LoadOrganizedPcd(file, camera); }, "not a PCD file (POINTS '307207120");
 }
 
 // A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from

@@ -22,20 +22,21 @@ namespace {
 // asked for 206 GB).
 constexpr long long kMaxPointBytes = 1024;
 
-// PCL's reader trusts the header's SIZE and COUNT lines: checked here before it sees them. Every
-// SIZE is 1, 2, 4 or 8 (the PCD format's), every COUNT a positive number, and a point takes at most
-// kMaxPointBytes.
-void CheckPcdPointSize(const std::string& file) {
+// PCL's reader trusts the header: it allocates POINTS (or WIDTH x HEIGHT) x the point's bytes
+// before it reads a point. So every header line up to DATA is checked here first: each SIZE is 1,
+// 2, 4 or 8 (the PCD format's), each COUNT a positive number, a point takes at most kMaxPointBytes,
+// and WIDTH, HEIGHT and POINTS are the camera's (an organized cloud).
+void CheckPcdHeader(const std::string& file, const CameraIntrinsics& camera) {
   std::ifstream in(file, std::ios::binary);
   std::vector<long long> sizes, counts;
+  const long long expected_points = static_cast<long long>(camera.width) * camera.height;
   std::string line;
-  for (int number = 1; number <= 64 && std::getline(in, line); ++number) {
+  for (int number = 1; in.tellg() < (1 << 20) && std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::string key;
     words >> key;
     if (key == "DATA") break;
-    if (key != "SIZE" && key != "COUNT") continue;
-    std::vector<long long>& values = key == "SIZE" ? sizes : counts;
+    if (key != "SIZE" && key != "COUNT" && key != "WIDTH" && key != "HEIGHT" && key != "POINTS") continue;
     for (std::string word; words >> word;) {
       long long value = 0;
       std::size_t used = 0;
@@ -44,10 +45,23 @@ void CheckPcdPointSize(const std::string& file) {
       } catch (const std::exception&) {
         used = 0;
       }
-      const bool ok = used == word.size() &&
-                      (key == "SIZE" ? value == 1 || value == 2 || value == 4 || value == 8 : value >= 1 && value <= kMaxPointBytes);
-      if (!ok) ThrowInputError(file, number, "not a PCD file (" + key + " '" + word + "' is no field " + (key == "SIZE" ? "size: 1, 2, 4 or 8)" : "count)"));
-      values.push_back(value);
+      if (used != word.size()) ThrowInputError(file, number, "not a PCD file (" + key + " '" + word + "' is no number)");
+      if (key == "SIZE") {
+        if (value != 1 && value != 2 && value != 4 && value != 8)
+          ThrowInputError(file, number, "not a PCD file (SIZE " + word + " is no field size: 1, 2, 4 or 8)");
+        sizes.push_back(value);
+      } else if (key == "COUNT") {
+        if (value < 1 || value > kMaxPointBytes) ThrowInputError(file, number, "not a PCD file (COUNT " + word + ")");
+        counts.push_back(value);
+      } else {
+        const long long want = key == "WIDTH" ? camera.width : key == "HEIGHT" ? camera.height : expected_points;
+        if (value != want) {
+          ThrowInputError(file, number, key + " " + word + " but the camera's is " + std::to_string(want) +
+                                            " (an organized cloud of the camera's " + std::to_string(camera.width) +
+                                            "x" + std::to_string(camera.height) + " is needed)");
+        }
+        break;  // one number; what follows is no concern of the size
+      }
     }
   }
   long long bytes = 0;
@@ -62,7 +76,7 @@ void CheckPcdPointSize(const std::string& file) {
 
 PcdFrame LoadOrganizedPcd(const std::string& file, const CameraIntrinsics& camera) {
   if (!std::filesystem::is_regular_file(file)) ThrowInputError(file, 0, "no such PCD file");
-  CheckPcdPointSize(file);
+  CheckPcdHeader(file, camera);
   // The header first: PCL's reader crashes on a file whose header holds no points (PCL 1.13).
   pcl::PCDReader reader;
   pcl::PCLPointCloud2 header;
