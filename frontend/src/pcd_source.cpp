@@ -29,6 +29,7 @@ constexpr long long kMaxPointBytes = 1024;
 void CheckPcdHeader(const std::string& file, const CameraIntrinsics& camera) {
   std::ifstream in(file, std::ios::binary);
   std::vector<long long> sizes, counts;
+  std::vector<std::string> types, fields;
   const long long expected_points = static_cast<long long>(camera.width) * camera.height;
   std::string line;
   for (int number = 1; in.tellg() < (1 << 20) && std::getline(in, line); ++number) {
@@ -36,6 +37,16 @@ void CheckPcdHeader(const std::string& file, const CameraIntrinsics& camera) {
     std::string key;
     words >> key;
     if (key == "DATA") break;
+    if (key == "FIELDS") {
+      fields.clear();
+      for (std::string word; words >> word;) fields.push_back(word);
+      continue;
+    }
+    if (key == "TYPE") {
+      types.clear();
+      for (std::string word; words >> word;) types.push_back(word);
+      continue;
+    }
     if (key != "SIZE" && key != "COUNT" && key != "WIDTH" && key != "HEIGHT" && key != "POINTS") continue;
     for (std::string word; words >> word;) {
       long long value = 0;
@@ -62,6 +73,27 @@ void CheckPcdHeader(const std::string& file, const CameraIntrinsics& camera) {
         }
         break;  // one number; what follows is no concern of the size
       }
+    }
+  }
+  // Each field's TYPE and SIZE agree as the format has them (F: 4 or 8 bytes; I and U: 1, 2, 4 or
+  // 8): PCL writes a value of the type's width into the field's SIZE bytes, past the point's end
+  // for a 2-byte F (a heap corruption fuzz_pcd's sanitizers found later, in free).
+  for (size_t k = 0; k < sizes.size() && k < types.size(); ++k) {
+    const bool ok = types[k] == "F" ? sizes[k] == 4 || sizes[k] == 8 : types[k] == "I" || types[k] == "U";
+    if (!ok) {
+      ThrowInputError(file, 0, "not a PCD file (field " + std::to_string(k + 1) + " has TYPE " + types[k] + " and SIZE " +
+                                   std::to_string(sizes[k]) + ")");
+    }
+  }
+  // The fields planemap takes (pcl::PointXYZRGBL's) are copied 4 bytes each: PCL copies the
+  // point type's width from the field, past the cloud's end when the field is narrower
+  // (fuzz_pcd: heap-buffer-overflow in pcl::fromPCLPointCloud2).
+  for (size_t k = 0; k < fields.size() && k < sizes.size(); ++k) {
+    const std::string& f = fields[k];
+    if (f != "x" && f != "y" && f != "z" && f != "rgb" && f != "rgba" && f != "label") continue;
+    if (sizes[k] != 4 || (k < counts.size() && counts[k] != 1)) {
+      ThrowInputError(file, 0, "not a cloud planemap reads (field '" + f + "' is not one 4-byte value: SIZE " +
+                                   std::to_string(sizes[k]) + ")");
     }
   }
   long long bytes = 0;
