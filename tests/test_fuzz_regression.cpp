@@ -34,35 +34,30 @@ void ExpectInputError(const std::string& file, Read read, const std::string& wha
   }
 }
 
+// A PCD input of fuzz_pcd (its 8x6 camera) read as `planemap frame --pcd` does.
+void ExpectPcdInputError(const std::string& name, const std::string& what) {
+  CameraIntrinsics camera;
+  camera.width = 8;
+  camera.height = 6;
+  ExpectInputError(FuzzInput("pcd", name), [&](const std::string& file) { LoadOrganizedPcd(file, camera); }, what);
+}
+
 // PCL's header reader threw std::out_of_range at a DATA line without its kind (ascii, binary, ...);
 // it escaped the reader and named no file.
 TEST(FuzzRegression, PcdDataLineWithoutKind) {
-  CameraIntrinsics camera;  // fuzz_pcd's 8x6 camera
-  camera.width = 8;
-  camera.height = 6;
-  ExpectInputError(FuzzInput("pcd", "data_line_without_kind.pcd"),
-                   [&](const std::string& file) { LoadOrganizedPcd(file, camera); }, "not a PCD file (broken header");
+  ExpectPcdInputError("data_line_without_kind.pcd", "not a PCD file (broken header");
 }
 
 // A SIZE line's value beyond any type (44444444444444444444444444, read by PCL as a huge size):
 // PCL's header reader allocated width x height x that (206 GB) before reading a point.
 TEST(FuzzRegression, PcdSizeBeyondAnyType) {
-  CameraIntrinsics camera;  // fuzz_pcd's 8x6 camera
-  camera.width = 8;
-  camera.height = 6;
-  ExpectInputError(FuzzInput("pcd", "size_beyond_any_type.pcd"),
-                   [&](const std::string& file) { LoadOrganizedPcd(file, camera); },
-                   ":3: not a PCD file (SIZE '44444444444444444444444444' is no number)");
+  ExpectPcdInputError("size_beyond_any_type.pcd", ":3: not a PCD file (SIZE '44444444444444444444444444' is no number)");
 }
 
 // A header without SIZE lines whose POINTS line claims 307207120 points (the line goes on with
 // bytes that are no number): PCL allocated for them (85 GB) before reading one.
 TEST(FuzzRegression, PcdPointsBeyondTheCamera) {
-  CameraIntrinsics camera;  // fuzz_pcd's 8x6 camera
-  camera.width = 8;
-  camera.height = 6;
-  ExpectInputError(FuzzInput("pcd", "points_beyond_the_camera.pcd"),
-                   [&](const std::string& file) { LoadOrganizedPcd(file, camera); }, "not a PCD file (POINTS '307207120");
+  ExpectPcdInputError("points_beyond_the_camera.pcd", "not a PCD file (POINTS '307207120");
 }
 
 // A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from
