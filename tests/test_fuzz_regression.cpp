@@ -43,9 +43,10 @@ void ExpectPcdInputError(const std::string& name, const std::string& what) {
 }
 
 // PCL's header reader threw std::out_of_range at a DATA line without its kind (ascii, binary, ...);
-// it escaped the reader and named no file.
+// it escaped the reader and named no file. The header check (the format's grammar, before PCL)
+// now stops it at its first bad line, a VIEWPOINT holding NULs.
 TEST(FuzzRegression, PcdDataLineWithoutKind) {
-  ExpectPcdInputError("data_line_without_kind.pcd", "not a PCD file (broken header");
+  ExpectPcdInputError("data_line_without_kind.pcd", ":9: not a PCD file (a header line holds the byte 0x00)");
 }
 
 // A SIZE line's value beyond any type (44444444444444444444444444, read by PCL as a huge size):
@@ -55,9 +56,36 @@ TEST(FuzzRegression, PcdSizeBeyondAnyType) {
 }
 
 // A header without SIZE lines whose POINTS line claims 307207120 points (the line goes on with
-// bytes that are no number): PCL allocated for them (85 GB) before reading one.
+// bytes that are no number): PCL allocated for them (85 GB) before reading one. Its WIDTH line
+// comes before any FIELDS.
 TEST(FuzzRegression, PcdPointsBeyondTheCamera) {
-  ExpectPcdInputError("points_beyond_the_camera.pcd", "not a PCD file (POINTS '307207120");
+  ExpectPcdInputError("points_beyond_the_camera.pcd", ":2: not a PCD file (no FIELDS before WIDTH)");
+}
+
+// A binary cloud with two headers: PCL's reader sized the data by the first (16-byte points) and
+// the fields by the second (20 bytes), and its conversion to pcl::PointXYZRGBL copied past the
+// data's end (heap-buffer-overflow in pcl::fromPCLPointCloud2). The header check refuses a second
+// header (here first a VIEWPOINT holding NULs), and the points are taken from PCL's raw blob field
+// by field, its length and each offset checked, no longer by PCL's conversion.
+TEST(FuzzRegression, PcdOverflowInPclConversion) {
+  ExpectPcdInputError("overflow_in_pcl_conversion.pcd", ":9: not a PCD file (a header line holds the byte 0x00)");
+}
+
+// A binary_compressed cloud whose block says it holds 0 bytes, compressed and whole: PCL's reader
+// warned and then copied from a null map (SEGV in pcl::PCDReader::readBodyBinary). The block's
+// sizes are now checked against the file and the points before PCL reads it.
+TEST(FuzzRegression, PcdCompressedBlockOfNothing) {
+  ExpectPcdInputError("compressed_block_of_nothing.pcd",
+                      "truncated or corrupt: its compressed block of 0 bytes, 71 in the file, says it holds 0 bytes; "
+                      "48 points take 768)");
+}
+
+// A binary cloud whose data begins with "COLUMNS": PCL's header reader goes on past DATA, took
+// that line for a FIELDS line (the points 4,506 bytes apart) and read far past the data (SEGV in
+// pcl::PCDReader::readBodyBinary). A line after DATA that PCL would read as header is refused.
+TEST(FuzzRegression, PcdDataBeginningWithAKey) {
+  ExpectPcdInputError("data_beginning_with_a_key.pcd",
+                      ":12: not a PCD file (a line after DATA begins with COLUMNS, which PCL's reader takes as more header)");
 }
 
 // A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from

@@ -1,11 +1,14 @@
 // The frontend on real Kinect frames: the OSD boxes (a ground-truth label for every point) and
 // TUM office frames. Figures are printed; the checks are asserted.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <set>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -594,11 +597,51 @@ TEST(PcdSource, BadFilesAreErrorsNamingTheFile) {
   const std::string garbage = dir.Write("garbage.pcd", "not a point cloud\n");
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(garbage, camera); }, {garbage, "not a PCD file"}));
   const std::string unorganized = dir.Write("unorganized.pcd", header(3, 1, "x y z", 3) + "0 0 1\n0 1 1\n1 0 1\n");
-  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(unorganized, camera); }, {unorganized, "cloud is 3x1", "organized"}));
+  EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(unorganized, camera); }, {unorganized, "WIDTH 3 but the camera's is 640", "organized"}));
   const std::string no_z = dir.Write("no_z.pcd", header(640, 480, "x y w", 640 * 480) + "0 0 1\n");
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(no_z, camera); }, {no_z, "no 'z' field"}));
   const std::string truncated = dir.Write("truncated.pcd", header(640, 480, "x y z", 640 * 480) + "0 0 1\n0 1 1\n");
   EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(truncated, camera); }, {truncated, "truncated or corrupt"}));
+}
+
+// The header is read against the PCD format before PCL sees it: PCL's reader takes keys by prefix,
+// lets a later line redefine the fields and allocates what the header claims (fuzz_pcd).
+TEST(PcdSource, HeadersOutsideTheFormatAreErrorsNamingTheLine) {
+  testing::TempDir dir;
+  CameraIntrinsics camera;
+  camera.width = 2;
+  camera.height = 1;
+  const std::string good =
+      "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+      "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n0.1 0.2 1.5\nnan nan nan\n";
+  const std::string file = dir.Write("good.pcd", good);
+  const PcdFrame frame = LoadOrganizedPcd(file, camera);
+  EXPECT_NEAR((*frame.cloud)[0].z, 1.5f, 1e-6f);
+  EXPECT_TRUE(std::isnan((*frame.cloud)[1].z));
+  // Each case: a header line replaced (by its key), and the error that names it.
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    return dir.Write("bad.pcd", text);
+  };
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"SIZE 4 4 4", "SIZEx 4 4 4", ":4: not a PCD file ('SIZEx' is no header key)"},
+      {"SIZE 4 4 4", "SIZE 4 4", ":4: not a PCD file (SIZE has 2 value(s), 3 expected (one for each field))"},
+      {"SIZE 4 4 4", "SIZE 4 4 3", ":4: not a PCD file (SIZE 3 is no field size"},
+      {"TYPE F F F", "TYPE F F D", ":5: not a PCD file (TYPE 'D' is none of F, I, U)"},
+      {"COUNT 1 1 1", "COUNT 1 1 -1", ":6: not a PCD file (COUNT '-1' is no number)"},
+      {"WIDTH 2\nHEIGHT 1", "HEIGHT 1\nWIDTH 2", ":7: not a PCD file (no WIDTH before HEIGHT)"},
+      {"VERSION 0.7\nFIELDS x y z", "FIELDS x y z\nVERSION 0.7", ":3: not a PCD file (VERSION after FIELDS; the header's keys"},
+      {"HEIGHT 1\n", "HEIGHT 1\nHEIGHT 1\n", ":9: not a PCD file (HEIGHT given twice"},
+      {"VIEWPOINT 0 0 0 1 0 0 0", "VIEWPOINT 0 0 0 1 0 0", ":9: not a PCD file (VIEWPOINT has 6 value(s), 7 expected)"},
+      {"POINTS 2\n", "", ":10: not a PCD file (no POINTS before DATA)"},
+      {"DATA ascii", "DATA asci", ":11: not a PCD file (DATA 'asci' is none of ascii, binary, binary_compressed)"},
+      {"FIELDS x y z", std::string("FIELDS x y\x01 z"), ":3: not a PCD file (a header line holds the byte 0x01)"},
+  };
+  for (const auto& [from, to, what] : cases) {
+    const std::string bad = with(from, to);
+    EXPECT_TRUE(testing::ThrowsWith([&] { LoadOrganizedPcd(bad, camera); }, {bad + what})) << to;
+  }
 }
 
 // A real frame cut short inside its compressed data.
