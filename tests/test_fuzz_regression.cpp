@@ -88,6 +88,13 @@ TEST(FuzzRegression, PcdDataBeginningWithAKey) {
                       ":12: not a PCD file (a line after DATA begins with COLUMNS, which PCL's reader takes as more header)");
 }
 
+// A header with a line of a lone carriage return before FIELDS: PCL skips empty lines but ends
+// its header at that one, and its read() of the points then dereferenced null (SEGV in
+// pcl::PCDReader::read). Such a line is refused, and PCL's header reader runs alone first.
+TEST(FuzzRegression, PcdWhiteSpaceLineInHeader) {
+  ExpectPcdInputError("white_space_line_in_header.pcd", ":3: not a PCD file (a header line of white space only)");
+}
+
 // A key that is no name (here a null one in a wall's flow map) threw YAML::BadConversion from
 // every config and scene reader's unknown-key check, an error naming no file.
 TEST(FuzzRegression, SceneKeyNotAName) {
@@ -107,6 +114,20 @@ TEST(FuzzRegression, MapJsonCountBeyondInt) {
 TEST(FuzzRegression, StudyWithAHundredMillionSeeds) {
   ExpectInputError(FuzzInput("study_yaml", "hundred_million_seeds.yaml"), [](const std::string& file) { LoadStudy(file); },
                    "the sweep's 3000000000 runs of 5 frames are more than the 1000000 frames one study may render");
+}
+
+// A study whose config: names a file over 255 bytes: std::filesystem::exists threw
+// filesystem_error (ENAMETOOLONG) from ResolveConfigPath, an error naming no input file. The
+// paths the tool is given are now looked up with the error_code forms, and the error names the
+// settings file the study refers to, as for any settings file that cannot be opened.
+TEST(FuzzRegression, StudyConfigNameTooLong) {
+  try {
+    LoadStudy(FuzzInput("study_yaml", "config_name_too_long.yaml"));
+    ADD_FAILURE() << "the study was read without an error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("con  \xC9\xC9\xC9"));  // the config: value, as the study gives it
+    EXPECT_THAT(e.what(), HasSubstr(": cannot open file"));
+  }
 }
 
 }  // namespace

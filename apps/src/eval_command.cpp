@@ -27,7 +27,8 @@ constexpr double kCm = 100.0;  // [cm/m]
 
 // A scene file, or a rendered sequence folder (its scene.yaml).
 sim::Scene LoadSceneOrSequence(const std::string& path) {
-  if (fs::is_directory(path)) return sim::LoadScene((fs::path(path) / "scene.yaml").string());
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return sim::LoadScene((fs::path(path) / "scene.yaml").string());
   return sim::LoadScene(ResolveConfigPath(path));
 }
 

@@ -70,6 +70,10 @@ PcdHeader ReadPcdHeader(std::ifstream& in, const std::string& file, const Camera
   bool data = false;
   while (!data && in.tellg() < (1 << 20) && std::getline(in, line)) {
     ++number;
+    // PCL skips an empty line but ends its header at one of white space only (a lone '\r' too).
+    if (!line.empty() && line.find_first_not_of(" \t\r\v\f") == std::string::npos) {
+      fail("a header line of white space only");
+    }
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::size_t first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;  // empty or a comment
@@ -270,13 +274,27 @@ void CheckPcdFile(const std::string& file, const CameraIntrinsics& camera) {
 }  // namespace
 
 PcdFrame LoadOrganizedPcd(const std::string& file, const CameraIntrinsics& camera) {
-  if (!std::filesystem::is_regular_file(file)) ThrowInputError(file, 0, "no such PCD file");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) ThrowInputError(file, 0, "no such PCD file");
   CheckPcdFile(file, camera);
   // PCL's reader gives the points as the file lays them out; they are taken from there field by
   // field with every offset checked against the data PCL read (pcl::fromPCLPointCloud2 trusts the
   // header's offsets and the data's length: fuzz_pcd found heap-buffer-overflows in it).
+  // PCL's header reader first, on its own: its read() of the points went on after a header it
+  // could not read and dereferenced null (fuzz_pcd, before the white-space line check above).
   pcl::PCDReader reader;
   pcl::PCLPointCloud2 blob;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0, data_type = 0;
+  unsigned int data_start = 0;
+  int header_status = -1;
+  try {
+    header_status = reader.readHeader(file, blob, origin, orientation, version, data_type, data_start);
+  } catch (const std::exception& e) {
+    ThrowInputError(file, 0, std::string("not a PCD file (broken header: ") + e.what() + ")");
+  }
+  if (header_status != 0) ThrowInputError(file, 0, "not a PCD file (PCL's reader cannot read its header)");
   int read_status = -1;
   try {
     read_status = reader.read(file, blob);

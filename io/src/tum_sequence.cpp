@@ -33,7 +33,8 @@ bool SameCamera(const CameraIntrinsics& a, const CameraIntrinsics& b) {
 
 std::optional<CameraIntrinsics> TumSequence::StoredCamera(const std::string& dir) {
   const fs::path file = fs::path(dir) / "camera.yaml";
-  if (!fs::exists(file)) return std::nullopt;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return std::nullopt;
   return LoadCameraIntrinsics(file.string());
 }
 
@@ -41,7 +42,8 @@ TumSequence TumSequence::Open(const std::string& dir, const CameraIntrinsics& ca
                               const DatasetConfig& config) {
   ValidateConfig(camera, "camera.");
   ValidateConfig(config, "dataset.");
-  if (!fs::is_directory(dir)) ThrowInputError(dir, 0, "sequence folder does not exist");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) ThrowInputError(dir, 0, "sequence folder does not exist");
   const fs::path root(dir);
   if (const std::optional<CameraIntrinsics> stored = StoredCamera(dir)) {
     if (!SameCamera(*stored, camera)) {
@@ -58,11 +60,11 @@ TumSequence TumSequence::Open(const std::string& dir, const CameraIntrinsics& ca
   TumSequence sequence;
   sequence.dir_ = dir;
   sequence.camera_ = camera;
-  if (fs::exists(root / "groundtruth.txt")) {
+  if (fs::exists(root / "groundtruth.txt", ec)) {
     sequence.groundtruth_ = ReadTumTrajectory((root / "groundtruth.txt").string());
   }
   std::vector<StampedFile> labels;
-  if (fs::exists(root / "label.txt")) {
+  if (fs::exists(root / "label.txt", ec)) {
     labels = ReadFileList((root / "label.txt").string());
     sequence.has_labels_ = true;
   }
