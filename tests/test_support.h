@@ -62,13 +62,17 @@ double TranslationError(const Pose3& a, const Pose3& b);
 // Asserts that two planes agree within `deg` degrees between normals and `metres` in offset.
 ::testing::AssertionResult PlanesNear(const Plane& a, const Plane& b, double deg, double metres);
 
-// Runs `fn` and asserts that it throws an exception whose message contains every fragment.
-template <typename Fn>
+// Runs `fn` and asserts that it throws an exception of type `Exception` (any std::exception by
+// default) whose message contains every fragment.
+template <typename Exception = std::exception, typename Fn>
 ::testing::AssertionResult ThrowsWith(Fn&& fn, std::initializer_list<std::string> fragments) {
   try {
     fn();
   } catch (const std::exception& e) {
     const std::string message = e.what();
+    if (dynamic_cast<const Exception*>(&e) == nullptr) {
+      return ::testing::AssertionFailure() << "an exception of another type: '" << message << "'";
+    }
     for (const std::string& f : fragments) {
       if (message.find(f) == std::string::npos) {
         return ::testing::AssertionFailure() << "message '" << message << "' lacks '" << f << "'";

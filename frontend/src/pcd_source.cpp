@@ -10,6 +10,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -84,13 +85,10 @@ PcdHeader ReadPcdHeader(std::ifstream& in, const std::string& file, const Camera
         fail(std::string("a header line holds the byte ") + code);
       }
     }
+    // Only spaces and tabs are left to part the words (every other control byte was refused).
     std::vector<std::string> words;
-    for (std::size_t at = first; at < line.size();) {
-      const std::size_t end = std::min(line.find_first_of(" \t", at), line.size());
-      words.push_back(line.substr(at, end - at));
-      at = line.find_first_not_of(" \t", end);
-      if (at == std::string::npos) break;
-    }
+    std::istringstream stream(line);
+    for (std::string word; stream >> word;) words.push_back(word);
     std::string key = words[0] == "COLUMNS" ? "FIELDS" : words[0];
     const auto found = std::find(kKeys.begin(), kKeys.end(), key);
     if (found == kKeys.end()) fail("'" + words[0] + "' is no header key");
@@ -277,11 +275,11 @@ PcdFrame LoadOrganizedPcd(const std::string& file, const CameraIntrinsics& camer
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) ThrowInputError(file, 0, "no such PCD file");
   CheckPcdFile(file, camera);
-  // PCL's reader gives the points as the file lays them out; they are taken from there field by
-  // field with every offset checked against the data PCL read (pcl::fromPCLPointCloud2 trusts the
-  // header's offsets and the data's length: fuzz_pcd found heap-buffer-overflows in it).
   // PCL's header reader first, on its own: its read() of the points went on after a header it
-  // could not read and dereferenced null (fuzz_pcd, before the white-space line check above).
+  // could not read and dereferenced null (fuzz_pcd, before the white-space line check). Then
+  // read() gives the points as the file lays them out, and they are taken from there field by
+  // field with every offset checked against the data PCL read (pcl::fromPCLPointCloud2 trusts
+  // the header's offsets and the data's length: fuzz_pcd found heap-buffer-overflows in it).
   pcl::PCDReader reader;
   pcl::PCLPointCloud2 blob;
   Eigen::Vector4f origin;
