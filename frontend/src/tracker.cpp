@@ -373,6 +373,15 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
 
   const Pose3 predicted = Predict(stamp, T_odometry_camera);
   const bool odometry = T_odometry_camera && odometry_at_last_;  // the prediction is the odometry's
+  // With odometry the heading errs by odometry_sigma_deg from the last pose, and more the more the
+  // robot turned and walked since its rotation was last measured (a gait's turn comes out a few
+  // per cent short or long, and every step drifts its heading a little).
+  double heading_sigma_deg = config_.odometry_sigma_deg;
+  if (T_odometry_camera && odometry_at_rotation_) {
+    const Pose3 motion = odometry_at_rotation_->inverse() * *T_odometry_camera;
+    heading_sigma_deg += config_.odometry_turn_heading_error * RotationAngle(motion.linear()) / kDegToRad +
+                         config_.odometry_walk_heading_error_deg * motion.translation().norm();
+  }
   result.T_predicted = predicted;
   Pose3 T = predicted;
   Pose3 prior = predicted;  // what the refinement falls back on where no plane fixes the pose
@@ -429,7 +438,7 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
       // prediction's with fewer, lighter planes, but a few centimetres off it, is not taken.
       const double a = (moved - along_unobserved).norm() / config_.odometry_sigma;
       const double b = along_unobserved.norm() / (config_.odometry_sigma + drift);
-      const double c = RotationAngle(correction.linear()) / (config_.odometry_sigma_deg * kDegToRad);
+      const double c = RotationAngle(correction.linear()) / (heading_sigma_deg * kDegToRad);
       return 1.0 / (1.0 + a * a + b * b + c * c);
     };
     const auto reachable = [&](const Pose3& T_candidate) { return plausibility(T_candidate) > 0.0; };
@@ -770,6 +779,11 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
         voxels_[l.id].clear();
       }
     } else {
+      // With odometry a degraded frame maps only planes no landmark could be (see the config).
+      if (T_odometry_camera && result.status == TrackStatus::kDegraded && config_.odometry_degraded_adds_only_distinct) {
+        observed[i].Place(T);
+        if (!Associate({observed[i]}, gates.search_angle_deg, gates.search_distance, 1, 0.0).empty()) continue;
+      }
       PlaneLandmark l;
       l.id = static_cast<int>(map_.landmarks.size());
       l.first_frame = frame;

@@ -74,6 +74,14 @@ struct TrackingConfig {
   // well with a pose 4 cm off, and it was taken.
   double odometry_sigma = 0.02;          // [m]
   double odometry_sigma_deg = 1.0;       // [deg]
+  // ... and the heading's, while no planes measure the rotation (the floor alone), grows by
+  // odometry_turn_heading_error per degree the odometry turned and odometry_walk_heading_error_deg
+  // per metre it walked since they last did: a gait's turns come out a few per cent long or short
+  // and each step drifts its heading a little (the simulated Nao: 0.3 deg per step, steps of at
+  // most 10 deg or 4 cm). A heading 2 deg off after a turn over open floor was held against the
+  // mapped wall that came back into view (generated room 48, docs/approach.md).
+  double odometry_turn_heading_error = 0.05;     // [deg/deg]
+  double odometry_walk_heading_error_deg = 7.5;  // [deg/m]
   std::string refine = "points";
   int refine_iterations = 10;            // Gauss-Newton iterations of "points"
   double refine_robust_scale = 0.01;     // Cauchy scale on a plane's mean point distance, "points" [m]
@@ -105,6 +113,14 @@ struct TrackingConfig {
   // merge_max_distance of the landmark's plane.
   double merge_max_angle_deg = 2.0;      // [deg]
   double merge_max_distance = 0.02;      // [m]
+  // With odometry a degraded frame still maps (its unobserved directions follow the odometry), but
+  // adds no landmark whose plane lies within the association's search gates of one mapped
+  // (search_angle_deg, search_distance, overlapping): its pose, partly the odometry's, cannot tell
+  // a surface seen again a little off from a new one, and a second copy of a wall holds every
+  // later pose to the drift it was mapped with. (Without odometry degraded frames map only while
+  // they may have drifted little, max_mapping_drift; there the rule left TUM fr1/rpy at stride 5,
+  // where clutter puts a landmark near most new planes, unmapped: 5.5 -> 28.6 cm ATE.)
+  bool odometry_degraded_adds_only_distinct = true;
   double landmark_voxel = 0.05;          // a landmark keeps one point per voxel of this size [m]
   double velocity_window = 1.0;          // the motion model's velocity spans this much time [s]
   int lost_after = 30;                   // frames in a row without a measured rotation before the pose is lost ...
@@ -195,6 +211,8 @@ struct TrackingConfig {
     v("max_correction_deg", max_correction_deg, Check::kPositive);
     v("odometry_sigma", odometry_sigma, Check::kPositive);
     v("odometry_sigma_deg", odometry_sigma_deg, Check::kPositive);
+    v("odometry_turn_heading_error", odometry_turn_heading_error, Check::kNonNegative);
+    v("odometry_walk_heading_error_deg", odometry_walk_heading_error_deg, Check::kNonNegative);
     v("refine", refine, OneOf{{"points", "icp", "none"}});
     v("refine_iterations", refine_iterations, Check::kPositive);
     v("refine_robust_scale", refine_robust_scale, Check::kNonNegative);
@@ -209,6 +227,7 @@ struct TrackingConfig {
     v("correlated_pixels", correlated_pixels, Check::kPositive);
     v("merge_max_angle_deg", merge_max_angle_deg, Check::kPositive);
     v("merge_max_distance", merge_max_distance, Check::kPositive);
+    v("odometry_degraded_adds_only_distinct", odometry_degraded_adds_only_distinct);
     v("landmark_voxel", landmark_voxel, Check::kPositive);
     v("velocity_window", velocity_window, Check::kPositive);
     v("lost_after", lost_after, Check::kPositive);
