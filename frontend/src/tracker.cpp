@@ -278,6 +278,12 @@ bool Tracker::Agrees(const Observation& o, const Plane& landmark) const {
          std::abs(landmark.SignedDistance(o.centroid_w)) <= config_.merge_max_distance;
 }
 
+std::optional<Tracker::Motion> Tracker::UnmeasuredMotion(const std::optional<Pose3>& T_odometry_camera) const {
+  if (!T_odometry_camera || !odometry_at_rotation_) return std::nullopt;
+  const Pose3 motion = odometry_at_rotation_->inverse() * *T_odometry_camera;
+  return Motion{RotationAngle(motion.linear()) / kDegToRad, motion.translation().norm()};
+}
+
 std::optional<Eigen::Matrix3d> Tracker::SolveRotation(
     const std::vector<Candidate>& candidates, const std::vector<Observation>& observed, const Eigen::Matrix3d& predicted,
     const std::function<double(const Eigen::Matrix3d&)>& plausibility, std::vector<bool>* agreeing) const {
@@ -377,10 +383,9 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   // robot turned and walked since its rotation was last measured (a gait's turn comes out a few
   // per cent short or long, and every step drifts its heading a little).
   double heading_sigma_deg = config_.odometry_sigma_deg;
-  if (T_odometry_camera && odometry_at_rotation_) {
-    const Pose3 motion = odometry_at_rotation_->inverse() * *T_odometry_camera;
-    heading_sigma_deg += config_.odometry_turn_heading_error * RotationAngle(motion.linear()) / kDegToRad +
-                         config_.odometry_walk_heading_error_deg * motion.translation().norm();
+  if (const auto unmeasured = UnmeasuredMotion(T_odometry_camera)) {
+    heading_sigma_deg += config_.odometry_turn_heading_error * unmeasured->turn_deg +
+                         config_.odometry_walk_heading_error_deg * unmeasured->walked;
   }
   result.T_predicted = predicted;
   Pose3 T = predicted;
@@ -698,10 +703,9 @@ TrackResult Tracker::Track(const FrameModel& model, const Cloud& cloud, double s
   }
   blind_run_ = rotation_observed || first ? 0 : blind_run_ + 1;
   if (rotation_observed || first) odometry_at_rotation_ = T_odometry_camera;
-  if (T_odometry_camera && odometry_at_rotation_) {
+  if (const auto unmeasured = UnmeasuredMotion(T_odometry_camera)) {
     // With odometry the heading errs by the motion since the rotation was measured.
-    const Pose3 motion = odometry_at_rotation_->inverse() * *T_odometry_camera;
-    const double turn = RotationAngle(motion.linear()) / kDegToRad, walked = motion.translation().norm();
+    const double turn = unmeasured->turn_deg, walked = unmeasured->walked;
     if (turn > config_.lost_after_turn_deg || walked > config_.lost_after_distance) {
       result.status = TrackStatus::kLost;
       char text[160];

@@ -316,6 +316,11 @@ class Tracker {
  private:
   struct Observation;  // a frame plane in the world under a pose
   Pose3 Predict(double stamp, const std::optional<Pose3>& T_odometry_camera) const;
+  struct Motion {
+    double turn_deg, walked;  // [deg], [m]
+  };
+  // The odometry's net motion since the rotation was last measured; none without odometry.
+  std::optional<Motion> UnmeasuredMotion(const std::optional<Pose3>& T_odometry_camera) const;
   struct Candidate {
     int observation, landmark;
     double score;  // angle / gate + distance / gate: lower is better
