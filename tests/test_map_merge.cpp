@@ -210,12 +210,27 @@ TEST(MapMerge, ABoxMappedTwiceIsFoldedNeighboursAreNot) {
   EXPECT_NEAR(100 * map.objects[1].center.x(), 145.0, 1e-9) << "cm";
 }
 
+TEST(MapMerge, AnObjectMarkedAsRoomStructureIsDroppedNotFoldedIntoTheBoxItOverlaps) {
+  // A room corner's two walls, taken for a "locker" 1 m deep before the map knew them for walls
+  // (MapObject::structure), and the box standing in that corner inside its cuboid.
+  PlaneMap map;
+  map.objects = {Box(0, {-1.9, -0.9, 0.3}, {0.9, 1.1, 0.6}, 0.0, 114), Box(1, {-1.5, -0.6, 0.13}, {0.17, 0.37, 0.25}, 15.0, 700)};
+  map.objects[0].structure = true;
+  EXPECT_EQ(FuseDuplicateObjects(MapMergeConfig{}, &map), 0);
+  ASSERT_EQ(map.objects.size(), 1u);
+  EXPECT_EQ(map.objects[0].id, 0);
+  EXPECT_EQ(map.objects[0].observations, 700);
+  EXPECT_NEAR(100 * map.objects[0].center.x(), -150.0, 1e-9) << "cm";
+  EXPECT_NEAR(100 * map.objects[0].dimensions.y(), 37.0, 1e-9) << "cm";
+}
+
 TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
   PlaneMap map = SyntheticRoom();
   RebuildObjects(Objects(), 0.25, &map);
   map.objects[0].label_votes = {{"box", 12}, {"locker", 1}};
   map.objects[0].complete_count = {3, 2, 1};
   map.objects[0].complete_sum = Eigen::Vector3d(0.9, 0.8, 0.3);
+  map.objects[0].structure = true;
   testing::TempDir dir;
   const PlaneMap back = ReadPlaneMapJson(dir.Write("map.json", PlaneMapJson(map)));
   ASSERT_EQ(back.landmarks.size(), map.landmarks.size());
@@ -240,6 +255,7 @@ TEST(MapJson, RoundTripKeepsWhatAMergeNeeds) {
   EXPECT_EQ(back.objects[0].label_votes, map.objects[0].label_votes);
   EXPECT_EQ(back.objects[0].complete_count, map.objects[0].complete_count);
   EXPECT_EQ(back.objects[0].grasp_landmark, map.objects[0].grasp_landmark);
+  EXPECT_TRUE(back.objects[0].structure);
   EXPECT_LT((back.objects[0].center - map.objects[0].center).norm(), 1e-12);
   ASSERT_EQ(back.keyframes.size(), 1u);
   EXPECT_LT(testing::TranslationError(back.keyframes[0].T_world_camera, map.keyframes[0].T_world_camera), 1e-12);

@@ -88,7 +88,7 @@ std::vector<int> FindTargets(const PlaneMap& map, const nav::TargetDescription& 
   std::vector<int> targets;
   *counts = TargetCounts{};
   for (const MapObject& o : map.objects) {
-    if (o.label != target.label) continue;
+    if (o.structure || o.label != target.label) continue;
     if (const std::string conflict = nav::SizeConflict(o, target); !conflict.empty()) {
       ++counts->other_size;
       counts->other_size_why = "object " + std::to_string(o.id) + ": " + conflict;
@@ -451,7 +451,7 @@ ApproachRun RunApproachOnce(const ApproachOptions& options, const ApproachInputs
     const sim::SceneObject& truth = (moved ? moved_scene : scene).object(scene.task_object);
     const nav::Footprint footprint = nav::FootprintOf(TrueObject(truth, Eigen::Vector3d::UnitX()));
     run.task_object_mapped = std::any_of(run.map.objects.begin(), run.map.objects.end(), [&](const MapObject& o) {
-      return footprint.Distance(o.center.head<2>()) == 0.0;
+      return !o.structure && footprint.Distance(o.center.head<2>()) == 0.0;
     });
   }
   if (!run.planned || !target_truth) return run;

@@ -219,6 +219,7 @@ void FactorGraph::AddCuboids(const std::vector<const FrameObservations*>& frames
   std::vector<int> cuboid_of_object(map_.objects.size(), -1);
   const double face_cosine = std::cos(config_.face_max_angle_deg * kDegToRad);
   for (const MapObject& o : map_.objects) {
+    if (o.structure) continue;  // a wall's piece, no object
     if (std::find(config_.cuboid_labels.begin(), config_.cuboid_labels.end(), o.label) == config_.cuboid_labels.end()) continue;
     Cuboid c;
     c.object = o.id;

@@ -90,6 +90,7 @@ std::vector<ObjectError> EvaluateObjects(const std::vector<ObjectTruth>& truths,
 std::vector<ObjectEstimate> MapObjectEstimates(const PlaneMap& map) {
   std::vector<ObjectEstimate> estimates;
   for (const MapObject& o : map.objects) {
+    if (o.structure) continue;  // no object: a wall's piece (MapObject::structure)
     ObjectEstimate e;
     e.id = o.id;
     e.label = o.label;

@@ -185,8 +185,7 @@ FrameModel MapGraph(const PlaneMap& map, const PlaneGraphConfig& config, Cloud* 
   model.floor = map.Floor();
   model.structure.resize(map.landmarks.size());
   for (const PlaneLandmark& l : map.landmarks) {
-    const double extent = l.low.x() <= l.high.x() ? (l.high - l.low).norm() : 0.0;
-    model.structure[l.id] = l.id == model.floor || extent > config.structure_min_extent;
+    model.structure[l.id] = l.id == model.floor || l.Extent() > config.structure_min_extent;
   }
   return model;
 }
@@ -220,6 +219,7 @@ int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map) {
   std::vector<MapObject> kept;
   int folded = 0;
   for (const MapObject& o : map->objects) {
+    if (o.structure) continue;  // no object (MapObject::structure); ids are renumbered here anyway
     auto same = std::find_if(kept.begin(), kept.end(), [&](const MapObject& k) {
       return CuboidOverlap(k.center, k.axes, k.dimensions, o.center, o.axes, o.dimensions) >= config.fuse_object_overlap;
     });
@@ -256,6 +256,7 @@ void RebuildObjects(const ObjectModel& model, double object_match_distance, Plan
   std::vector<int> heir(map->objects.size(), -1);
   for (size_t k = 0; k < map->objects.size(); ++k) {
     const MapObject& old = map->objects[k];
+    if (old.structure) continue;  // no object: its views are a wall's (MapObject::structure)
     int best_shared = 1;
     double best_distance = object_match_distance;
     for (size_t j = 0; j < graph.objects.size(); ++j) {

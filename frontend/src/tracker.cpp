@@ -284,6 +284,10 @@ std::optional<Tracker::Motion> Tracker::UnmeasuredMotion(const std::optional<Pos
   return Motion{RotationAngle(motion.linear()) / kDegToRad, motion.translation().norm()};
 }
 
+bool Tracker::IsStructure(int landmark) const {
+  return map_.landmarks[landmark].Extent() > config_.structure_min_extent;
+}
+
 std::optional<Eigen::Matrix3d> Tracker::SolveRotation(
     const std::vector<Candidate>& candidates, const std::vector<Observation>& observed, const Eigen::Matrix3d& predicted,
     const std::function<double(const Eigen::Matrix3d&)>& plausibility, std::vector<bool>* agreeing) const {
@@ -891,6 +895,11 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     for (int p : fo.planes) {
       if (landmark_of_plane[p] >= 0) faces.push_back(landmark_of_plane[p]);
     }
+    // A face on a landmark the map knows to be room structure: a wall, of which the frame saw too
+    // little to know it, taken for a face (in the generated rooms a low camera near a corner saw
+    // two walls and the floor meet as a box's faces do, and the object stood in the planner's way
+    // 1 m out from the corner). The map's extent of the surface decides as one view's does.
+    if (std::any_of(faces.begin(), faces.end(), [&](int f) { return IsStructure(f); })) continue;
     const Eigen::Vector3d center = T_world_camera * fo.center;
     // The map object it is: the one sharing the most faces (two at least), else the one whose
     // cuboid it overlaps most (object_match_overlap of the smaller at least: a partial view's
@@ -899,6 +908,7 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     int match = -1, best_shared = 1;
     double best_overlap = config_.object_match_overlap;
     for (const MapObject& mo : map_.objects) {
+      if (mo.structure) continue;
       int shared = 0;
       for (int f : faces) shared += std::count(mo.landmarks.begin(), mo.landmarks.end(), f) > 0;
       const double overlap = CuboidOverlap(mo.center, mo.axes, mo.dimensions, center, R * fo.axes, fo.dimensions);
@@ -910,6 +920,7 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
     }
     for (const MapObject& mo : map_.objects) {
       if (match >= 0) break;
+      if (mo.structure) continue;
       const bool shares = std::any_of(faces.begin(), faces.end(), [&](int f) {
         return std::count(mo.landmarks.begin(), mo.landmarks.end(), f) > 0;
       });
@@ -994,6 +1005,11 @@ void Tracker::MergeEdgesAndObjects(const FrameModel& model, const std::vector<in
       mo.grasp_axis = map_.landmarks[mo.grasp_landmark].plane.normal;
       mo.has_grasp_axis = true;
     }
+  }
+  // An object mapped before one of its faces was known for a wall (seen from afar, a corner's two
+  // walls each span less than structure_min_extent) is no object from the frame on that knows it.
+  for (MapObject& mo : map_.objects) {
+    mo.structure = mo.structure || std::any_of(mo.landmarks.begin(), mo.landmarks.end(), [&](int f) { return IsStructure(f); });
   }
 }
 

@@ -149,6 +149,7 @@ void WritePlaneMapPly(const std::string& file, const PlaneMap& map) {
   }
   for (const MapEdge& e : map.edges) ply.Line(e.start, e.end, cv::Scalar(0, 0, 0));
   for (const MapObject& o : map.objects) {
+    if (o.structure) continue;
     ply.Cross(o.center, 0.03, cv::Scalar(255, 0, 0));  // [m]
     for (int k = 0; k < 3; ++k) ply.Line(o.center, o.center + 0.5 * o.dimensions[k] * o.axes.col(k), cv::Scalar(255, 255, 0));
     if (o.has_grasp_axis) ply.Line(o.center, o.center + 0.3 * o.grasp_axis, cv::Scalar(0, 0, 255));

@@ -146,6 +146,7 @@ std::string PlaneMapJson(const PlaneMap& map, int indent) {
                    {"axes", {Vec(o.axes.col(0)), Vec(o.axes.col(1)), Vec(o.axes.col(2))}},
                    {"grasp_axis", o.has_grasp_axis ? Vec(o.grasp_axis) : json(nullptr)},
                    {"observations", o.observations},
+                   {"structure", o.structure},
                    {"uncertainty", o.uncertainty.known ? UncertaintyJson(o.uncertainty) : json(nullptr)},
                    // What the estimates are made of, so a merge can go on averaging them.
                    {"evidence", {{"complete_count", o.complete_count},
@@ -260,6 +261,7 @@ PlaneMap ReadPlaneMapJson(const std::string& file) {
       m.has_grasp_axis = true;
     }
     if (o.Has("observations")) m.observations = o["observations"].Int();
+    if (o.Has("structure")) m.structure = o["structure"].Bool();
     if (o.Has("uncertainty")) {
       const Node u = o["uncertainty"];
       MapObject::Uncertainty& x = m.uncertainty;

@@ -141,7 +141,7 @@ std::vector<std::uint8_t> ObstacleCells(const PlaneMap& map, const OccupancyGrid
     }
   }
   for (int o = 0; o < static_cast<int>(map.objects.size()); ++o) {
-    if (o != grid.target.object && !near_target(map.objects[o].center.head<2>()) && InHeightBand(map.objects[o], floor, config)) {
+    if (o != grid.target.object && !map.objects[o].structure && !near_target(map.objects[o].center.head<2>()) && InHeightBand(map.objects[o], floor, config)) {
       MarkFootprint(grid, FootprintOf(map.objects[o]), &blocked);
     }
   }

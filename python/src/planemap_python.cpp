@@ -284,7 +284,9 @@ PYBIND11_MODULE(planemap, m) {
                                if (!o.has_grasp_axis) return std::nullopt;
                                return o.grasp_axis;
                              })
-      .def_readonly("observations", &MapObject::observations);
+      .def_readonly("observations", &MapObject::observations)
+      .def_readonly("structure", &MapObject::structure,
+                    "True: a wall's piece taken for an object before the map knew the wall; no object");
   py::class_<PlaneMap>(m, "Map", "The map: plane landmarks and objects, world frame")
       .def_readonly("planes", &PlaneMap::landmarks)
       .def_readonly("objects", &PlaneMap::objects);

@@ -83,6 +83,7 @@ std::string Format(const char* format, double a, double b, double c) {
 std::map<int, int> OwnerOfLandmarks(const PlaneMap& map) {
   std::map<int, int> owner;
   for (const MapObject& o : map.objects) {
+    if (o.structure) continue;
     for (int l : o.landmarks) owner.emplace(l, o.id);
   }
   return owner;

@@ -33,6 +33,8 @@ struct PlaneLandmark {
   bool Overlaps(const Eigen::Vector3d& low_other, const Eigen::Vector3d& high_other, double margin) const {
     return Box3{low, high}.Overlaps(Box3{low_other, high_other}, margin);
   }
+  // The diagonal of its inliers' box [m]; 0 before any inlier.
+  double Extent() const { return low.x() <= high.x() ? (high - low).norm() : 0.0; }
 };
 
 // A real intersection of two landmarks; the merged edge is the longest one seen (paper, Fig. 4).
@@ -73,6 +75,10 @@ struct MapObject {
   int since_frame = -1;  // the first frame of the views its estimate rests on
   int moved_views = 0;   // views in a row that disagree with the estimate
   int moved_from_frame = -1;  // the first of them
+  // A face of it turned out to be room structure (TrackingConfig::structure_min_extent): a wall's
+  // piece, seen near by, taken for a face before the map knew the wall. It is no object: every
+  // reader of the map passes over it; it stays in the list so that object ids stay what they were.
+  bool structure = false;
   // How certain the estimate is: marginals of the back end's solution (ceres::Covariance), set
   // when it refined the object as a cuboid. A dimension only bounded from below (held at its
   // bound) has no standard deviation (-1).

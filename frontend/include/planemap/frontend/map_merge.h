@@ -103,7 +103,8 @@ int FuseDuplicateLandmarks(const MapMergeConfig& config, PlaneMap* map);
 
 // Folds map objects whose cuboids overlap by fuse_object_overlap or more into one: their views,
 // faces and votes united, the dimensions, centre, class and grasp axis taken from them again.
-// Object ids are renumbered densely. Returns the number of objects folded.
+// Objects that are room structure (MapObject::structure) are dropped. Object ids are renumbered
+// densely. Returns the number of objects folded.
 int FuseDuplicateObjects(const MapMergeConfig& config, PlaneMap* map);
 
 // Re-aggregates the map's objects from its graph (trihedral angles of landmarks joined by map

@@ -176,6 +176,11 @@ struct TrackingConfig {
   double keyframe_angle_deg = 15.0;      // ... or turn [deg]
   double object_match_distance = 0.25;   // a frame object joins a map object this close [m] ...
   double object_match_overlap = 0.5;     // ... or whose cuboid holds this share of the smaller one [0, 1]
+  // A frame object with a face on a landmark longer than this (its inliers' box diagonal, as
+  // graph.structure_min_extent measures one view's plane) is a piece of room structure: a wall
+  // seen near by, too little of it in view for the frame to know it, taken for a face (a room's
+  // corner, the nook between a wall and a locker). It is not mapped [m]
+  double structure_min_extent = 2.0;
   // A view that measured an object's height counts as this many that only bounded it from below
   // (a box stared at from the side, its top unseen, collects "locker" votes: it must not outvote
   // the views that saw its top) [-]
@@ -253,6 +258,7 @@ struct TrackingConfig {
     v("keyframe_angle_deg", keyframe_angle_deg, Check::kPositive);
     v("object_match_distance", object_match_distance, Check::kPositive);
     v("object_match_overlap", object_match_overlap, Check::kPositive);
+    v("structure_min_extent", structure_min_extent, Check::kPositive);
     v("decided_vote_weight", decided_vote_weight, Check::kPositive);
     v("object_moved_distance", object_moved_distance, Check::kPositive);
     v("object_moved_angle_deg", object_moved_angle_deg, Check::kPositive);
@@ -321,6 +327,8 @@ class Tracker {
   };
   // The odometry's net motion since the rotation was last measured; none without odometry.
   std::optional<Motion> UnmeasuredMotion(const std::optional<Pose3>& T_odometry_camera) const;
+  // Whether the map knows a landmark for room structure: longer than structure_min_extent.
+  bool IsStructure(int landmark) const;
   struct Candidate {
     int observation, landmark;
     double score;  // angle / gate + distance / gate: lower is better
