@@ -182,7 +182,7 @@ std::vector<PointsOnPlane> Tracker::SilhouetteGroups(const FrameModel& model, co
   for (size_t i = 0; i < observed.size(); ++i) {
     if (landmark_of[i] < 0) continue;
     const auto object = std::find_if(map_.objects.begin(), map_.objects.end(), [&](const MapObject& o) {
-      return std::count(o.landmarks.begin(), o.landmarks.end(), landmark_of[i]) > 0;
+      return !o.structure && std::count(o.landmarks.begin(), o.landmarks.end(), landmark_of[i]) > 0;
     });
     if (object == map_.objects.end()) continue;
     // The cuboid's sides next to this face, outward normals, where its dimension is whole.

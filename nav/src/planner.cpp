@@ -141,8 +141,10 @@ std::vector<std::uint8_t> ObstacleCells(const PlaneMap& map, const OccupancyGrid
     }
   }
   for (int o = 0; o < static_cast<int>(map.objects.size()); ++o) {
-    if (o != grid.target.object && !map.objects[o].structure && !near_target(map.objects[o].center.head<2>()) && InHeightBand(map.objects[o], floor, config)) {
-      MarkFootprint(grid, FootprintOf(map.objects[o]), &blocked);
+    const MapObject& object = map.objects[o];
+    if (o != grid.target.object && !object.structure && !near_target(object.center.head<2>()) &&
+        InHeightBand(object, floor, config)) {
+      MarkFootprint(grid, FootprintOf(object), &blocked);
     }
   }
   return blocked;
